@@ -1,0 +1,63 @@
+/* BwGeometry: the blocks (polygons, centroids, areas), the interfaces between
+ * them (i, j, centre G, angle, length) and named block sets.
+ *
+ * The geometry is replicated on every rank: it is a few hundred bytes per
+ * block, generation is O(N) and deterministic, and every rank then knows the
+ * neighbours of what it owns without communication. Generators fill it; they
+ * are registered by name in a PetscFunctionList (geometry.generator). */
+#pragma once
+#include <petscsys.h>
+#include "scene/scene.h"
+
+typedef enum { BW_JOINT_BED = 0, BW_JOINT_HEAD = 1 } BwJointKind;
+
+typedef struct _n_BwGeometry *BwGeometry;
+struct _n_BwGeometry {
+  MPI_Comm   comm;
+  PetscReal  depth; /* s [m] */
+  /* blocks */
+  PetscInt   nblocks;
+  PetscInt  *offsets;  /* nblocks+1: block b has vertices offsets[b]..offsets[b+1]-1 */
+  PetscReal *vertices; /* 2 per vertex, counter-clockwise */
+  PetscReal *centroid; /* 2 per block */
+  PetscReal *area;     /* per block */
+  /* interfaces */
+  PetscInt     ninterfaces;
+  PetscInt    *pair;   /* 2 per interface: blocks i < j, n points from i into j */
+  PetscReal   *center; /* 2 per interface: G */
+  PetscReal   *angle;  /* theta [rad] of the tangent t */
+  PetscReal   *length; /* l [m] */
+  BwJointKind *kind;   /* which joint law applies */
+  PetscReal   *kn, *kt; /* per-interface stiffness given by the geometry (file), or NULL */
+  /* named block sets, CSR */
+  PetscInt   nsets;
+  char     **setname;
+  PetscInt  *setoffsets; /* nsets+1 */
+  PetscInt  *setblocks;
+  /* bookkeeping while a generator fills the arrays */
+  PetscInt nvertices, maxvertices, maxblocks, maxinterfaces, maxsetblocks, maxsets;
+};
+
+/* A generator fills blocks, interfaces and sets; `thickness` is the joint
+ * thickness e [m], the gap it leaves between block faces. */
+typedef PetscErrorCode (*BwGeometryGenerator)(BwGeometry geom, BwScene scene, PetscReal thickness);
+
+PetscErrorCode BwGeometryCreate(MPI_Comm comm, BwGeometry *geom);
+PetscErrorCode BwGeometryRegister(const char name[], BwGeometryGenerator generator);
+/* Reads geometry.generator and geometry.depth, runs the generator and
+ * derives centroids and areas. */
+PetscErrorCode BwGeometrySetFromOptions(BwGeometry geom, BwScene scene, PetscReal thickness);
+PetscErrorCode BwGeometryDestroy(BwGeometry *geom);
+
+/* Building blocks for generators. */
+PetscErrorCode BwGeometryAddBlock(BwGeometry geom, PetscInt nv, const PetscReal xy[], PetscInt *b);
+PetscErrorCode BwGeometryAddRectangle(BwGeometry geom, PetscReal x0, PetscReal y0, PetscReal x1, PetscReal y1, PetscInt *b);
+PetscErrorCode BwGeometryAddInterface(BwGeometry geom, PetscInt i, PetscInt j, const PetscReal center[2], PetscReal angle, PetscReal length, BwJointKind kind);
+PetscErrorCode BwGeometryAddSet(BwGeometry geom, const char name[], PetscInt n, const PetscInt blocks[]);
+/* Centroids and areas from the polygons (shoelace formula). */
+PetscErrorCode BwGeometryComputeCentroids(BwGeometry geom);
+PetscErrorCode BwGeometryFindSet(BwGeometry geom, const char name[], PetscInt *set);
+/* Comma-separated list of the set names, for error messages. */
+PetscErrorCode BwGeometryGetSetNames(BwGeometry geom, char buf[], size_t len);
+
+PetscErrorCode BwGeneratorTwoBlocks(BwGeometry geom, BwScene scene, PetscReal thickness);

@@ -1,0 +1,258 @@
+/* BwSolver: fieldsplit Schur, direct MUMPS, and the automatic fallback
+ * between them (see solver.h for the structure of each path). */
+#include <petscksp.h>
+#include "solver/solver.h"
+#include "util/compat.h"
+
+const char *const BwMethods[] = {"auto", "fieldsplit", "direct", "BwMethod", "BW_METHOD_", NULL};
+
+PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(solver));
+  (*solver)->comm      = comm;
+  (*solver)->requested = BW_METHOD_AUTO;
+  (*solver)->rtol      = 1e-10;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverDestroy(BwSolver *solver)
+{
+  PetscFunctionBeginUser;
+  if (!*solver) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(KSPDestroy(&(*solver)->fieldsplit));
+  PetscCall(KSPDestroy(&(*solver)->direct));
+  PetscCall(PetscFree(*solver));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Insert `name value` unless the user already set `name`. */
+static PetscErrorCode BwSolverDefault(BwSolver s, const char name[], const char value[])
+{
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(NULL, NULL, name, &set));
+  if (set) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCheck(s->ndefaults < 16, PETSC_COMM_SELF, PETSC_ERR_PLIB, "too many solver defaults");
+  PetscCall(PetscOptionsSetValue(NULL, name, value));
+  PetscCall(PetscStrncpy(s->defaults[s->ndefaults++], name, sizeof(s->defaults[0])));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
+{
+  PetscInt                 method = s->requested, schur = 0;
+  static const char *const schurs[] = {"cholesky", "gamg", "BwSchur", "BW_SCHUR_", NULL};
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(s->comm, NULL, "Solver (scene key solver.*)", NULL);
+  PetscCall(PetscOptionsEList("-solver_method", "auto (fieldsplit, MUMPS on failure), fieldsplit or direct", NULL, BwMethods, 3, BwMethods[method], &method, NULL));
+  PetscCall(PetscOptionsReal("-solver_rtol", "Required relative true residual of the full mixed system (scaled)", NULL, s->rtol, &s->rtol, NULL));
+  PetscCall(PetscOptionsEList("-solver_schur", "Schur complement solve of fieldsplit: cholesky (MUMPS) or gamg (CG+GAMG)", NULL, schurs, 2, schurs[schur], &schur, NULL));
+  PetscOptionsEnd();
+  if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
+  s->requested  = (BwMethod)method;
+  s->schur_gamg = schur == 1 ? PETSC_TRUE : PETSC_FALSE;
+
+  /* Sub-solvers that PCFIELDSPLIT creates take their defaults from the
+   * database; the direct path's MUMPS gets a larger work-space margin,
+   * since its estimate for saddle-point matrices with delayed pivots is too
+   * small (INFOG(1) = -9 seen with the default 20 %). */
+  if (s->requested != BW_METHOD_DIRECT) {
+    PetscCall(BwSolverDefault(s, "-fieldsplit_r_ksp_type", "preonly"));
+    PetscCall(BwSolverDefault(s, "-fieldsplit_r_pc_type", "jacobi"));
+    if (s->schur_gamg) {
+      PetscCall(BwSolverDefault(s, "-fieldsplit_q_ksp_type", "cg"));
+      PetscCall(BwSolverDefault(s, "-fieldsplit_q_pc_type", "gamg"));
+      PetscCall(BwSolverDefault(s, "-fieldsplit_q_ksp_rtol", "1e-4"));
+    } else {
+      PetscCall(BwSolverDefault(s, "-fieldsplit_q_ksp_type", "preonly"));
+      PetscCall(BwSolverDefault(s, "-fieldsplit_q_pc_type", "cholesky"));
+      PetscCall(BwSolverDefault(s, "-fieldsplit_q_pc_factor_mat_solver_type", "mumps"));
+    }
+  }
+  if (s->requested != BW_METHOD_FIELDSPLIT) PetscCall(BwSolverDefault(s, "-direct_mat_mumps_icntl_14", "100"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Rigid motions of the whole assembly in the scaled dofs: the near-null
+ * space GAMG needs to coarsen a stiffness that supports make definite. */
+static PetscErrorCode BwSolverNearNullSpace(BwMixed mx)
+{
+  Vec          v[3];
+  MatNullSpace nsp;
+  BwGeometry   geom = mx->geom;
+  PetscReal    x0[2] = {0, 0};
+
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < geom->nblocks; b++)
+    for (PetscInt c = 0; c < 2; c++) x0[c] += geom->centroid[2 * b + c] / geom->nblocks;
+  for (PetscInt r = 0; r < 3; r++) {
+    PetscCall(MatCreateVecs(mx->S, &v[r], NULL));
+    for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+      PetscInt  b = mx->own_blocks[e];
+      PetscReal u[3];
+      if (r < 2) {
+        u[0] = r == 0;
+        u[1] = r == 1;
+        u[2] = 0;
+      } else {
+        u[0] = -(geom->centroid[2 * b + 1] - x0[1]);
+        u[1] = geom->centroid[2 * b] - x0[0];
+        u[2] = 1;
+      }
+      for (PetscInt c = 0; c < 3; c++) {
+        PetscInt row = mx->sdof[3 * b + c];
+        /* q~ = diag(S)^{1/2} q */
+        if (row >= 0) PetscCall(VecSetValue(v[r], row, u[c] / mx->qscale[3 * b + c], INSERT_VALUES));
+      }
+    }
+    PetscCall(VecAssemblyBegin(v[r]));
+    PetscCall(VecAssemblyEnd(v[r]));
+  }
+  /* MatNullSpaceCreate wants orthonormal vectors */
+  PetscCall(VecNormalize(v[0], NULL));
+  for (PetscInt r = 1; r < 3; r++) {
+    PetscScalar dots[2];
+    PetscCall(VecMDot(v[r], r, v, dots));
+    for (PetscInt j = 0; j < r; j++) dots[j] = -dots[j];
+    PetscCall(VecMAXPY(v[r], r, dots, v));
+    PetscCall(VecNormalize(v[r], NULL));
+  }
+  PetscCall(MatNullSpaceCreate(mx->comm, PETSC_FALSE, 3, v, &nsp));
+  PetscCall(MatSetNearNullSpace(mx->S, nsp));
+  PetscCall(MatNullSpaceDestroy(&nsp));
+  for (PetscInt r = 0; r < 3; r++) PetscCall(VecDestroy(&v[r]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx)
+{
+  PC pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPCreate(s->comm, &s->fieldsplit));
+  PetscCall(KSPSetOperators(s->fieldsplit, mx->K, mx->K));
+  /* FGMRES: right preconditioned, so its residual is the true one, and it
+   * tolerates an inexact (CG+GAMG) Schur solve. */
+  PetscCall(KSPSetType(s->fieldsplit, KSPFGMRES));
+  PetscCall(KSPSetTolerances(s->fieldsplit, s->rtol, 0.0, PETSC_DEFAULT, 200));
+  PetscCall(KSPGetPC(s->fieldsplit, &pc));
+  /* The type first: PCFieldSplitSetIS does nothing on another PC type. */
+  PetscCall(PCSetType(pc, PCFIELDSPLIT));
+  PetscCall(PCFieldSplitSetIS(pc, "r", mx->isr));
+  PetscCall(PCFieldSplitSetIS(pc, "q", mx->isq));
+  PetscCall(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR));
+  PetscCall(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_FULL));
+  PetscCall(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_USER, mx->S));
+  if (s->schur_gamg) PetscCall(BwSolverNearNullSpace(mx));
+  PetscCall(KSPSetFromOptions(s->fieldsplit));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwSolverSetUpDirect(BwSolver s, BwMixed mx)
+{
+  PC pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPCreate(s->comm, &s->direct));
+  PetscCall(KSPSetOptionsPrefix(s->direct, "direct_"));
+  PetscCall(KSPSetOperators(s->direct, mx->K, mx->K));
+  /* Richardson on the unpreconditioned residual around the LU factors is
+   * iterative refinement on the full system: one step when the factors are
+   * accurate, a few more when pivoting was delayed. */
+  PetscCall(KSPSetType(s->direct, KSPRICHARDSON));
+  PetscCall(KSPSetNormType(s->direct, KSP_NORM_UNPRECONDITIONED));
+  PetscCall(KSPSetTolerances(s->direct, s->rtol, 0.0, PETSC_DEFAULT, 10));
+  PetscCall(KSPGetPC(s->direct, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(KSPSetFromOptions(s->direct));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Runs one path. A PETSc error inside the solver (a factorisation that
+ * fails, say) is a failed path, not a failed run: its code is returned in
+ * *failed together with the reason, and the caller decides. */
+static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, KSP ksp, const char name[], PetscBool *ok, char reason[], size_t len)
+{
+  PetscErrorCode     ierr;
+  KSPConvergedReason kr;
+  PetscLogDouble     t0, t1, t2;
+
+  PetscFunctionBeginUser;
+  *ok = PETSC_FALSE;
+  PetscCall(VecZeroEntries(mx->x));
+  PetscCall(PetscTime(&t0));
+  ierr = KSPSetUp(ksp);
+  PetscCall(PetscTime(&t1));
+  if (!ierr) ierr = KSPSolve(ksp, mx->b, mx->x);
+  PetscCall(PetscTime(&t2));
+  s->seconds_setup += t1 - t0;
+  s->seconds_solve += t2 - t1;
+  if (ierr) {
+    const char *text;
+    PetscCall(PetscErrorMessage(ierr, NULL, (char **)&text));
+    PetscCall(PetscSNPrintf(reason, len, "%s raised a PETSc error: %s", name, text ? text : "unknown"));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(KSPGetConvergedReason(ksp, &kr));
+  PetscCall(KSPGetIterationNumber(ksp, &s->iterations));
+  PetscCall(BwMixedCheck(mx, mx->x, NULL, &s->check));
+  if (kr < 0) {
+    PC             pc;
+    PCFailedReason pcr = PC_NOERROR;
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCGetFailedReason(pc, &pcr));
+    PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
+  } else if (!(s->check.residual <= s->rtol)) {
+    PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses solver.rtol %.3e", name, (double)s->check.residual, (double)s->rtol));
+  } else *ok = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx)
+{
+  PetscBool ok = PETSC_FALSE;
+  char      reason[512];
+
+  PetscFunctionBeginUser;
+  s->fallback_reason[0] = 0;
+  if (s->requested != BW_METHOD_DIRECT) {
+    PetscCall(BwSolverSetUpFieldsplit(s, mx));
+    s->used = BW_METHOD_FIELDSPLIT;
+    PetscCall(BwSolverRun(s, mx, s->fieldsplit, "fieldsplit", &ok, reason, sizeof(reason)));
+    if (!ok && s->requested == BW_METHOD_FIELDSPLIT) SETERRQ(s->comm, PETSC_ERR_NOT_CONVERGED, "solver failed: %s (solver.method: auto would fall back to MUMPS)", reason);
+    if (!ok) {
+      s->fallback = PETSC_TRUE;
+      PetscCall(PetscStrncpy(s->fallback_reason, reason, sizeof(s->fallback_reason)));
+    }
+  }
+  if (!ok) {
+    PetscCall(BwSolverSetUpDirect(s, mx));
+    s->used = BW_METHOD_DIRECT;
+    PetscCall(BwSolverRun(s, mx, s->direct, "direct (MUMPS)", &ok, reason, sizeof(reason)));
+    PetscCheck(ok, s->comm, PETSC_ERR_NOT_CONVERGED, "solver failed: %s%s%s; the assembly may be a mechanism or the system too ill-conditioned for solver.rtol", reason, s->fallback ? "; before it, " : "", s->fallback ? s->fallback_reason : "");
+  }
+  /* Defaults inserted for sub-solvers the user replaced stay unused: drop them. */
+  for (PetscInt d = 0; d < s->ndefaults; d++) {
+    PetscBool used;
+    PetscCall(PetscOptionsUsed(NULL, s->defaults[d], &used));
+    if (!used) PetscCall(PetscOptionsClearValue(NULL, s->defaults[d]));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverGetIdlePrefixes(BwSolver s, PetscInt *n, const char *prefixes[3])
+{
+  PetscFunctionBeginUser;
+  *n = 0;
+  if (!s->fieldsplit) {
+    prefixes[(*n)++] = "ksp_";
+    prefixes[(*n)++] = "pc_";
+    prefixes[(*n)++] = "fieldsplit_";
+  }
+  if (!s->direct) prefixes[(*n)++] = "direct_";
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,51 @@
+/* BwSolver: solves the scaled mixed system of BwMixed.
+ *
+ *   fieldsplit  FGMRES on the whole system, preconditioned by PCFIELDSPLIT
+ *               Schur with full factorisation: fields r (stresses, A00 = -I,
+ *               solved exactly by Jacobi) and q (dofs); the Schur complement
+ *               is preconditioned by the assembled S^ = D^T D^ (exact), by
+ *               default factored by MUMPS Cholesky (solver.schur: cholesky)
+ *               or solved by CG + GAMG with the rigid-body near-null space
+ *               (solver.schur: gamg). Options prefix: none (-ksp_*, -pc_*,
+ *               -fieldsplit_r_*, -fieldsplit_q_*).
+ *   direct      MUMPS LU of the whole system with iterative refinement
+ *               (Richardson on the true residual). Prefix: -direct_.
+ *   auto        fieldsplit; if its KSP fails or the true residual of the
+ *               full system misses solver.rtol, direct, and the reason is
+ *               recorded.
+ * Defaults are set in code (or inserted into the options database when
+ * absent, for the sub-solvers PETSc creates itself) and every option
+ * overrides them. */
+#pragma once
+#include "system/mixed.h"
+
+typedef enum { BW_METHOD_AUTO = 0, BW_METHOD_FIELDSPLIT = 1, BW_METHOD_DIRECT = 2 } BwMethod;
+extern const char *const BwMethods[];
+
+typedef struct _n_BwSolver *BwSolver;
+struct _n_BwSolver {
+  MPI_Comm  comm;
+  BwMethod  requested;
+  PetscReal rtol;
+  PetscBool schur_gamg;
+  KSP       fieldsplit, direct;
+  /* outcome */
+  BwMethod  used;
+  PetscBool fallback;
+  char      fallback_reason[512];
+  PetscInt  iterations;
+  BwCheck   check;
+  PetscLogDouble seconds_setup, seconds_solve;
+  /* options this object inserted as defaults; cleared again if unused */
+  PetscInt ndefaults;
+  char     defaults[16][96];
+};
+
+PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver);
+PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene);
+/* Solves into mixed->x and fills the outcome and the residual check. */
+PetscErrorCode BwSolverSolve(BwSolver solver, BwMixed mixed);
+/* Option prefixes of paths that did not run (their options are legitimately
+ * unused), for BwSceneCheckUnused. */
+PetscErrorCode BwSolverGetIdlePrefixes(BwSolver solver, PetscInt *n, const char *prefixes[3]);
+PetscErrorCode BwSolverDestroy(BwSolver *solver);

@@ -1,0 +1,246 @@
+/* From the scaled solution back to physical results, and the self-check.
+ *
+ *   q = diag(S)^{-1/2} q~ (prescribed dofs take their values),  r = G^{-1/2} r~
+ *   dG = R B q, (T, N, M) = H r                          (kernel bw_interface_recover)
+ *   reaction_b = (D^T r)_b - F_b  at prescribed dofs      (model.md)
+ *
+ * A rank needs the stresses of every interface touching its blocks and the
+ * dofs of both blocks of its interfaces: one scatter brings them. */
+#include "system/mixed.h"
+#include "util/compat.h"
+#include "blockwall/kernels.h"
+
+typedef struct {
+  PetscInt   nint, *ints; /* interfaces needed, sorted */
+  PetscInt   nblk, *blks; /* blocks needed, sorted */
+  PetscReal *r;           /* 2m per needed interface, physical */
+  PetscReal *q;           /* 3 per needed block, physical */
+} BwGhosts;
+
+static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
+{
+  BwGeometry         geom = mx->geom;
+  PetscInt           m2 = 2 * mx->m, n, *from, nfree = 0;
+  IS                 isfrom;
+  Vec                loc;
+  VecScatter         sct;
+  const PetscScalar *a;
+  PetscReal         *d, *g;
+
+  PetscFunctionBeginUser;
+  /* needed interfaces and blocks */
+  n = mx->nown_interfaces;
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) n += mx->adj_offsets[mx->own_blocks[e] + 1] - mx->adj_offsets[mx->own_blocks[e]];
+  PetscCall(PetscMalloc1(n, &gh->ints));
+  gh->nint = 0;
+  for (PetscInt e = 0; e < mx->nown_interfaces; e++) gh->ints[gh->nint++] = mx->own_interfaces[e];
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt b = mx->own_blocks[e];
+    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) gh->ints[gh->nint++] = mx->adj[a];
+  }
+  PetscCall(PetscSortRemoveDupsInt(&gh->nint, gh->ints));
+  PetscCall(PetscMalloc1(mx->nown_blocks + 2 * gh->nint, &gh->blks));
+  gh->nblk = 0;
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) gh->blks[gh->nblk++] = mx->own_blocks[e];
+  for (PetscInt e = 0; e < gh->nint; e++) {
+    gh->blks[gh->nblk++] = geom->pair[2 * gh->ints[e]];
+    gh->blks[gh->nblk++] = geom->pair[2 * gh->ints[e] + 1];
+  }
+  PetscCall(PetscSortRemoveDupsInt(&gh->nblk, gh->blks));
+
+  /* one scatter: stresses, then free dofs */
+  for (PetscInt e = 0; e < gh->nblk; e++)
+    for (PetscInt c = 0; c < 3; c++) nfree += mx->dof[3 * gh->blks[e] + c] >= 0;
+  PetscCall(PetscMalloc1(m2 * gh->nint + nfree, &from));
+  n = 0;
+  for (PetscInt e = 0; e < gh->nint; e++)
+    for (PetscInt p = 0; p < m2; p++) from[n++] = mx->stress[gh->ints[e]] + p;
+  for (PetscInt e = 0; e < gh->nblk; e++)
+    for (PetscInt c = 0; c < 3; c++)
+      if (mx->dof[3 * gh->blks[e] + c] >= 0) from[n++] = mx->dof[3 * gh->blks[e] + c];
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, from, PETSC_OWN_POINTER, &isfrom));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &loc));
+  PetscCall(VecScatterCreate(x, isfrom, loc, NULL, &sct));
+  PetscCall(VecScatterBegin(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterDestroy(&sct));
+  PetscCall(ISDestroy(&isfrom));
+
+  /* unscale */
+  PetscCall(PetscMalloc2(m2 * gh->nint, &gh->r, 3 * gh->nblk, &gh->q));
+  PetscCall(PetscMalloc2(6 * m2, &d, m2, &g));
+  PetscCall(VecGetArrayRead(loc, &a));
+  n = 0;
+  for (PetscInt e = 0; e < gh->nint; e++) {
+    PetscInt k = gh->ints[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
+    int      status;
+    bw_interface_operator(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, mx->model->kn[k], mx->model->kt[k], (int)mx->m, d, g, &status);
+    PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+    for (PetscInt p = 0; p < m2; p++) gh->r[m2 * e + p] = PetscRealPart(a[n++]) / PetscSqrtReal(g[p]);
+  }
+  for (PetscInt e = 0; e < gh->nblk; e++) {
+    PetscInt b = gh->blks[e];
+    for (PetscInt c = 0; c < 3; c++) {
+      if (mx->dof[3 * b + c] >= 0) {
+        PetscCheck(mx->qscale[3 * b + c] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "scale of block %" PetscInt_FMT " not computed", b);
+        gh->q[3 * e + c] = PetscRealPart(a[n++]) * mx->qscale[3 * b + c];
+      } else gh->q[3 * e + c] = mx->model->value[3 * b + c];
+    }
+  }
+  PetscCall(VecRestoreArrayRead(loc, &a));
+  PetscCall(VecDestroy(&loc));
+  PetscCall(PetscFree2(d, g));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwGhostsFree(BwGhosts *gh)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(gh->ints));
+  PetscCall(PetscFree(gh->blks));
+  PetscCall(PetscFree2(gh->r, gh->q));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwGhostBlock(const BwGhosts *gh, PetscInt b, const PetscReal **q)
+{
+  PetscInt loc;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFindInt(b, gh->nblk, gh->blks, &loc));
+  PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "block %" PetscInt_FMT " not gathered", b);
+  *q = gh->q + 3 * loc;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, BwResults *res)
+{
+  BwGeometry geom = mx->geom;
+  PetscInt   m = mx->m, m2 = 2 * m;
+  BwGhosts   gh;
+  PetscReal *d, *g;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwGhostsGather(mx, x, &gh));
+  PetscCall(PetscCalloc5(3 * mx->nown_blocks, &res->displacement, 3 * mx->nown_blocks, &res->reaction, 3 * mx->nown_interfaces, &res->relative, 3 * mx->nown_interfaces, &res->resultant, m2 * mx->nown_interfaces, &res->stress));
+  PetscCall(PetscMalloc2(6 * m2, &d, m2, &g));
+  for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+    PetscInt         k = mx->own_interfaces[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1], loc;
+    const PetscReal *qi, *qj, *r;
+    int              status;
+
+    PetscCall(PetscFindInt(k, gh.nint, gh.ints, &loc));
+    r = gh.r + m2 * loc;
+    PetscCall(BwGhostBlock(&gh, i, &qi));
+    PetscCall(BwGhostBlock(&gh, j, &qj));
+    bw_interface_recover(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, (int)m, qi, qj, r, &res->relative[3 * e], &res->resultant[3 * e], &status);
+    PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+    /* output order (I, m, 2): shear and normal of each portion side by side */
+    for (PetscInt p = 0; p < m; p++) {
+      res->stress[m2 * e + 2 * p]     = r[p];
+      res->stress[m2 * e + 2 * p + 1] = r[m + p];
+    }
+  }
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt         b = mx->own_blocks[e];
+    const PetscReal *qb;
+    PetscReal        f[3] = {0, 0, 0};
+
+    PetscCall(BwGhostBlock(&gh, b, &qb));
+    for (PetscInt c = 0; c < 3; c++) res->displacement[3 * e + c] = qb[c];
+    /* (D^T r)_b from every interface touching b */
+    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
+      PetscInt k = mx->adj[a], side = mx->geom->pair[2 * k] == b ? 0 : 3, loc, i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
+      int      status;
+      PetscCall(PetscFindInt(k, gh.nint, gh.ints, &loc));
+      bw_interface_operator(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, mx->model->kn[k], mx->model->kt[k], (int)m, d, g, &status);
+      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+      for (PetscInt c = 0; c < 3; c++)
+        for (PetscInt p = 0; p < m2; p++) f[c] += d[6 * p + side + c] * gh.r[m2 * loc + p];
+    }
+    for (PetscInt c = 0; c < 3; c++) res->reaction[3 * e + c] = mx->model->prescribed[3 * b + c] ? f[c] - mx->model->load[3 * b + c] : 0;
+  }
+  PetscCall(PetscFree2(d, g));
+  PetscCall(BwGhostsFree(&gh));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwResultsFree(BwResults *res)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree5(res->displacement, res->reaction, res->relative, res->resultant, res->stress));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Residual norms of the scaled system, split into its two block rows. */
+PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, const BwResults *res, BwCheck *check)
+{
+  Vec                Kx;
+  const PetscScalar *kx, *bb, *xx;
+  PetscReal          loc[6] = {0, 0, 0, 0, 0, 0}, glob[6];
+
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(x, &Kx));
+  PetscCall(MatMult(mx->K, x, Kx));
+  PetscCall(VecGetArrayRead(Kx, &kx));
+  PetscCall(VecGetArrayRead(mx->b, &bb));
+  PetscCall(VecGetArrayRead(x, &xx));
+  for (PetscInt e = 0; e < mx->nr_local; e++) {
+    PetscReal res_r = PetscRealPart(bb[e] - kx[e]);
+    PetscReal dq    = PetscRealPart(kx[e] + xx[e] - bb[e]); /* D^ q~ including prescribed dofs */
+    loc[0] += res_r * res_r;
+    loc[1] += dq * dq;
+    loc[4] += PetscRealPart(bb[e] * bb[e]);
+  }
+  for (PetscInt e = mx->nr_local; e < mx->nlocal; e++) {
+    PetscReal res_q = PetscRealPart(bb[e] - kx[e]);
+    loc[2] += res_q * res_q;
+    loc[3] += PetscRealPart(bb[e] * bb[e]);
+  }
+  PetscCall(VecRestoreArrayRead(Kx, &kx));
+  PetscCall(VecRestoreArrayRead(mx->b, &bb));
+  PetscCall(VecRestoreArrayRead(x, &xx));
+  PetscCall(VecDestroy(&Kx));
+  PetscCall(MPIU_Allreduce(loc, glob, 5, MPIU_REAL, MPIU_SUM, mx->comm));
+  {
+    PetscReal bnorm = PetscSqrtReal(glob[3] + glob[4]);
+    check->residual      = bnorm > 0 ? PetscSqrtReal(glob[0] + glob[2]) / bnorm : PetscSqrtReal(glob[0] + glob[2]);
+    check->compatibility = glob[1] > 0 ? PetscSqrtReal(glob[0] / glob[1]) : PetscSqrtReal(glob[0]);
+    check->equilibrium   = glob[3] > 0 ? PetscSqrtReal(glob[2] / glob[3]) : PetscSqrtReal(glob[2]);
+  }
+
+  /* Global balance: the wrench of reactions + loads about the mean centroid,
+   * moments divided by the assembly's size so all three terms are forces. */
+  check->equilibrium_error = -1;
+  if (res) {
+    BwGeometry geom = mx->geom;
+    PetscReal  x0[2] = {0, 0}, lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, L, w[6] = {0, 0, 0, 0, 0, 0}, wg[6];
+    for (PetscInt b = 0; b < geom->nblocks; b++)
+      for (PetscInt c = 0; c < 2; c++) {
+        x0[c] += geom->centroid[2 * b + c] / geom->nblocks;
+        lo[c] = PetscMin(lo[c], geom->centroid[2 * b + c]);
+        hi[c] = PetscMax(hi[c], geom->centroid[2 * b + c]);
+      }
+    L = PetscMax(PetscSqrtReal(PetscSqr(hi[0] - lo[0]) + PetscSqr(hi[1] - lo[1])), PetscSqrtReal(geom->area[0]));
+    for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+      PetscInt         b = mx->own_blocks[e];
+      const PetscReal *F = &mx->model->load[3 * b], *R = &res->reaction[3 * e];
+      PetscReal        dx = geom->centroid[2 * b] - x0[0], dy = geom->centroid[2 * b + 1] - x0[1];
+      /* loads: resultant and sum of magnitudes */
+      w[0] += F[0];
+      w[1] += F[1];
+      w[2] += (F[2] + dx * F[1] - dy * F[0]) / L;
+      w[3] += R[0];
+      w[4] += R[1];
+      w[5] += (R[2] + dx * R[1] - dy * R[0]) / L;
+    }
+    PetscCall(MPIU_Allreduce(w, wg, 6, MPIU_REAL, MPIU_SUM, mx->comm));
+    {
+      PetscReal num = PetscSqrtReal(PetscSqr(wg[0] + wg[3]) + PetscSqr(wg[1] + wg[4]) + PetscSqr(wg[2] + wg[5]));
+      PetscReal den = PetscSqrtReal(PetscSqr(wg[0]) + PetscSqr(wg[1]) + PetscSqr(wg[2]));
+      if (!(den > 0)) den = PetscSqrtReal(PetscSqr(wg[3]) + PetscSqr(wg[4]) + PetscSqr(wg[5]));
+      check->equilibrium_error = den > 0 ? num / den : num;
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

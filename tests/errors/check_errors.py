@@ -1,0 +1,72 @@
+"""Bad input: one line on stderr naming the key (file:line when it came from
+the file), a non-zero exit, and no output file created or changed.
+
+Each case runs with output.file pointing at a file that already exists with
+known bytes; after the failed run those bytes must be unchanged and no
+temporary file may remain beside it."""
+import os
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
+from bwrun import Failure, expect, run  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+C = os.path.join(HERE, "cases")
+
+# name: (scene, extra args, [substrings the error line must contain])
+CASES = {
+    "bad_yaml": ("bad_yaml.yaml", [], ["bad_yaml.yaml:"]),
+    "unknown_key": ("unknown_key.yaml", [], ["unknown_key.yaml:6:", "joints.Emod"]),
+    "negative_E": ("negative_E.yaml", [], ["negative_E.yaml:7: joints.E must be > 0, got -1"]),
+    "bad_nu": ("bad_nu.yaml", [], ["bad_nu.yaml:2: joints.nu", "(-1, 0.5)", "0.5"]),
+    "zero_m": ("zero_m.yaml", [], ["zero_m.yaml:3: discretization.m must be >= 1, got 0"]),
+    "mortar_zero_thickness": ("mortar_zero_thickness.yaml", [], ["mortar_zero_thickness.yaml:4: joints.thickness", "> 0"]),
+    "negative_thickness": ("negative_thickness.yaml", [], ["negative_thickness.yaml:4: joints.thickness must be >= 0"]),
+    "unknown_set": ("unknown_set.yaml", [], ["unknown_set.yaml:5: loads.roof does not name a block set (sets: bottom, top)"]),
+    "unknown_generator": ("unknown_generator.yaml", [], ["unknown_generator.yaml:2: geometry.generator must be one of two_blocks, got 'spiral'"]),
+    "load_arity": ("load_arity.yaml", [], ["load_arity.yaml:4: loads.top must have 3 values"]),
+    "unrestrained": ("unrestrained.yaml", [], ["not restrained", "blocks 0, 1"]),
+    "command_line_value": ("ok.yaml", ["-joints_E", "0"], ["command line: -joints_E must be > 0, got 0"]),
+    "command_line_typo": ("ok.yaml", ["-joints_Ee", "1e9"], ["-joints_Ee"]),
+    "missing_file": ("does_not_exist.yaml", [], ["does_not_exist.yaml"]),
+    "unwritable_output": ("ok.yaml", ["-output_file", os.path.join(C, "ok.yaml", "out.h5")], ["-output_file", "cannot be written", "not a directory"]),
+    "no_scene": (None, [], ["-scene"]),
+}
+
+
+def check(name):
+    scene, args, wants = CASES[name]
+    with tempfile.TemporaryDirectory() as tmp:
+        target = os.path.join(tmp, "result.h5")
+        before = b"an earlier result that must survive\n"
+        with open(target, "wb") as f:
+            f.write(before)
+        if not any(a == "-output_file" for a in map(str, args)):
+            args = [*args, "-output_file", target]
+        path = os.path.join(C, scene) if scene else None
+        if path:
+            code, out, err = run(path, args, expect_ok=False)
+        else:  # no -scene at all
+            import subprocess
+            from bwrun import ENV, EXE
+            p = subprocess.run([EXE, *map(str, args)], capture_output=True, text=True, env=ENV)
+            code, out, err = p.returncode, p.stdout, p.stderr
+        lines = [l for l in err.splitlines() if l.strip()]
+        expect(code != 0, f"{name}: exit code 0")
+        expect(len(lines) == 1, f"{name}: expected one line on stderr, got {len(lines)}:\n{err}")
+        for w in wants:
+            expect(w in lines[0], f"{name}: {w!r} not in {lines[0]!r}")
+        with open(target, "rb") as f:
+            expect(f.read() == before, f"{name}: the existing output file was changed")
+        expect(sorted(os.listdir(tmp)) == ["result.h5"], f"{name}: files left behind: {os.listdir(tmp)}")
+        print(f"{name}: exit {code}: {lines[0]}")
+
+
+if __name__ == "__main__":
+    try:
+        for n in sys.argv[1:] or CASES:
+            check(n)
+    except Failure as e:
+        print("FAIL", e)
+        sys.exit(1)

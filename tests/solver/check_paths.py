@@ -1,0 +1,62 @@
+"""Solver paths against each other and against the closed form.
+
+  agree     fieldsplit and direct (MUMPS LU + refinement) give the same
+            displacements and stresses to 1e-10 on the paper's cases 3 and 8
+  fallback  a fieldsplit forced to fail (one outer iteration with a Jacobi
+            Schur solve) makes `auto` fall back to direct, records it in
+            /solver, and the answer is still the closed form's
+  strict    the same failure with solver.method: fieldsplit is an error
+"""
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "paper"))
+from bwrun import Failure, expect, rel_err, run  # noqa: E402
+from check_paper import SCENE, run_case  # noqa: E402
+
+FORCE_FAIL = ["-ksp_max_it", 1, "-fieldsplit_q_pc_type", "jacobi"]
+
+
+def agree():
+    for case in (3, 8):
+        fs, (q_ref, _) = run_case(case, args=["-solver_method", "fieldsplit"])
+        dr, _ = run_case(case, args=["-solver_method", "direct"])
+        expect(fs["solver"]["method_used"] == "fieldsplit", "fieldsplit path not used")
+        expect(dr["solver"]["method_used"] == "direct", "direct path not used")
+        for key in ("blocks/displacement", "interfaces/stress", "interfaces/resultant", "blocks/reaction"):
+            e = rel_err(dr[key], fs[key])
+            expect(e < 1e-10, f"case {case}: {key} differs by {e:.2e} between fieldsplit and direct")
+        e = rel_err(dr["blocks/displacement"][1], q_ref)
+        expect(e < 1e-10, f"case {case}: direct vs closed form {e:.2e}")
+        print(f"case {case}: fieldsplit vs direct {rel_err(dr['blocks/displacement'], fs['blocks/displacement']):.1e}; "
+              f"residuals {fs['solver']['residual']:.1e} / {dr['solver']['residual']:.1e}")
+
+
+def fallback():
+    res, (q_ref, _) = run_case(2, args=FORCE_FAIL)
+    s = res["solver"]
+    expect(s["fallback"] == 1 and s["method_used"] == "direct" and s["method_requested"] == "auto",
+           f"no fallback recorded: {s}")
+    expect("fieldsplit" in s["fallback_reason"] and "DIVERGED_ITS" in s["fallback_reason"],
+           f"fallback reason does not say why: {s['fallback_reason']!r}")
+    e = rel_err(res["blocks/displacement"][1], q_ref)
+    expect(e < 1e-10, f"fallback answer vs closed form {e:.2e}")
+    print(f"fallback recorded: {s['fallback_reason']}; answer vs closed form {e:.1e}")
+
+
+def strict():
+    code, out, err = run(SCENE, ["-solver_method", "fieldsplit", *FORCE_FAIL, "-output_file", "/tmp/bw_strict_never.h5"],
+                         expect_ok=False)
+    expect(code != 0, "a failed fieldsplit with method fieldsplit must fail the run")
+    expect("solver failed" in err and "DIVERGED_ITS" in err, f"message: {err!r}")
+    expect(not os.path.exists("/tmp/bw_strict_never.h5"), "output written after a failed solve")
+    print("strict fieldsplit failure:", err.strip().splitlines()[0])
+
+
+if __name__ == "__main__":
+    try:
+        {"agree": agree, "fallback": fallback, "strict": strict}[sys.argv[1]]()
+    except Failure as e:
+        print("FAIL", e)
+        sys.exit(1)

@@ -1,0 +1,48 @@
+# Sourced by tools/demo and tools/test: install what is missing, then
+# configure and build blockwall in build/ (Release). Safe to run again.
+set -euo pipefail
+BW_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+
+# Debian 12 packages. libopenblas0-pthread gives an optimised BLAS/LAPACK
+# that Debian's alternatives pick over the reference libblas.so.3.
+BW_DEBS=(build-essential gfortran cmake ninja-build pkg-config
+         petsc-dev libhdf5-openmpi-dev hdf5-tools libmetis-dev libyaml-dev
+         openmpi-bin libopenmpi-dev libopenblas0-pthread python3 python3-pip)
+
+bw_install_debs() {
+  local missing=()
+  for p in "${BW_DEBS[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "setup: installing ${missing[*]}"
+    local sudo=""
+    [ "$(id -u)" -ne 0 ] && sudo=sudo
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  fi
+}
+
+# Python only for post-processing tools and test checks.
+bw_install_python() {
+  local need=()
+  python3 -c 'import numpy' 2>/dev/null || need+=(numpy)
+  python3 -c 'import h5py' 2>/dev/null || need+=(h5py)
+  python3 -c 'import matplotlib' 2>/dev/null || need+=(matplotlib)
+  if [ ${#need[@]} -gt 0 ]; then
+    echo "setup: pip installing ${need[*]}"
+    python3 -m pip install -q "${need[@]}" 2>/dev/null ||
+      python3 -m pip install -q --break-system-packages "${need[@]}"
+  fi
+}
+
+bw_build() {
+  cmake -S "$BW_ROOT" -B "$BW_ROOT/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        -DPython3_EXECUTABLE="$(command -v python3)" >/dev/null
+  cmake --build "$BW_ROOT/build"
+}
+
+bw_install_debs
+bw_install_python
+bw_build
