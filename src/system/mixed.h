@@ -46,6 +46,8 @@ struct _n_BwMixed {
  * ranges), then assembly of K, S and b. */
 PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt block_owner[], BwMixed *mixed);
 PetscErrorCode BwMixedAssemble(BwMixed mixed);
+/* Error naming the blocks that can move freely (called by BwMixedCreate). */
+PetscErrorCode BwMixedCheckRestraint(BwMixed mixed);
 PetscErrorCode BwMixedDestroy(BwMixed *mixed);
 
 /* Results of the owned blocks and interfaces, physical units. */
