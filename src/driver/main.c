@@ -7,7 +7,8 @@ static const char help[] = "blockwall: static equilibrium of rigid blocks joined
  *   1. scene file -> options database            (BwScene)
  *   2. joint laws, geometry, supports and loads  (BwJointLaw, BwGeometry, BwModel)
  *   3. output target and solver options, checked before any work
- *   4. layout and assembly of the scaled mixed system (BwMixed)
+ *   4. partition (METIS, more than one rank), layout and assembly of the
+ *      scaled mixed system (BwMixed)
  *   5. solve: fieldsplit Schur, MUMPS fallback   (BwSolver)
  *   6. recover results, self-check, refuse options nothing used
  *   7. write HDF5 (temporary name, then rename) and print the summary
@@ -48,31 +49,29 @@ static PetscErrorCode BwRunDestroy(BwRun *run)
 
 static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
 {
-  char           path[PETSC_MAX_PATH_LEN] = "", title[256] = "";
-  PetscBool      has_scene, help;
-  BwJointLaw     bed, head;
-  BwTimings      t = {0};
-  PetscLogDouble t0, t1;
+  char        path[PETSC_MAX_PATH_LEN] = "", title[256] = "";
+  PetscBool   has_scene, help, progress_set;
+  BwJointLaw  bed, head;
+  BwLog       log;
+  PetscMPIInt *owner = NULL;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscTime(&t0));
-  PetscCall(BwLogRegister());
+  PetscCall(BwLogCreate(comm, &log));
   PetscCall(PetscOptionsHasHelp(NULL, &help));
 
   /* 1. scene */
   PetscCall(BwSceneCreate(comm, &run->scene));
-  PetscOptionsBegin(comm, NULL, "blockwall", NULL);
-  PetscCall(PetscOptionsString("-scene", "Scene file (YAML); every key is also an option", NULL, path, path, sizeof(path), &has_scene));
-  PetscCall(PetscOptionsString("-title", "Free text describing the scene", NULL, title, title, sizeof(title), NULL));
-  PetscOptionsEnd();
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &has_scene));
   if (has_scene) PetscCall(BwSceneLoad(run->scene, path));
   else PetscCheck(help, comm, PETSC_ERR_USER_INPUT, "-scene SCENE.yaml is required (run with -help for the options)");
-  if (has_scene) { /* -title is read again now that the file's keys are in */
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-title", title, sizeof(title), NULL));
-  }
+  PetscOptionsBegin(comm, NULL, "blockwall", NULL);
+  PetscCall(PetscOptionsString("-scene", "Scene file (YAML); every key is also an option", NULL, path, path, sizeof(path), NULL));
+  PetscCall(PetscOptionsString("-title", "Free text describing the scene", NULL, title, title, sizeof(title), NULL));
+  PetscCall(PetscOptionsBool("-progress", "One line per phase with time and memory (default: for 10000 blocks or more)", NULL, log.verbose, &log.verbose, &progress_set));
+  PetscOptionsEnd();
 
   /* 2. physics and geometry */
-  PetscCall(BwLogStagePush(BW_STAGE_GENERATE));
+  PetscCall(BwLogBegin(&log, BW_PHASE_GENERATE));
   PetscCall(BwJointLawSetFromOptions(&bed, run->scene, "joints_", NULL));
   PetscCall(BwGeometryCreate(comm, &run->geom));
   PetscCall(BwGeometrySetFromOptions(run->geom, run->scene, bed.thickness));
@@ -84,9 +83,8 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
     }
   PetscCall(BwModelCreate(run->geom, &run->model));
   PetscCall(BwModelSetFromOptions(run->model, run->scene, &bed, &head));
-  PetscCall(PetscLogStagePop());
-  PetscCall(PetscTime(&t1));
-  t.generate = t1 - t0;
+  if (!progress_set) log.verbose = run->geom->nblocks >= 10000 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(BwLogEnd(&log, BW_PHASE_GENERATE));
 
   /* 3. output and solver options */
   PetscCall(BwOutputCreate(comm, &run->output));
@@ -95,30 +93,24 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   PetscCall(BwSolverSetFromOptions(run->solver, run->scene));
   if (help && !has_scene) PetscFunctionReturn(PETSC_SUCCESS);
 
-  /* 4. assembly */
-  PetscCall(BwLogStagePush(BW_STAGE_ASSEMBLE));
-  PetscCall(PetscTime(&t0));
-  PetscCall(BwMixedCreate(run->model, NULL, &run->mixed));
+  /* 4. partition and assembly */
+  PetscCall(BwLogBegin(&log, BW_PHASE_PARTITION));
+  PetscCall(BwPartitionBlocks(run->model, &owner));
+  PetscCall(BwLogEnd(&log, BW_PHASE_PARTITION));
+  PetscCall(BwLogBegin(&log, BW_PHASE_ASSEMBLE));
+  PetscCall(BwMixedCreate(run->model, owner, &run->mixed));
+  PetscCall(PetscFree(owner));
   PetscCall(BwMixedAssemble(run->mixed));
-  PetscCall(PetscTime(&t1));
-  t.assemble = t1 - t0;
-  PetscCall(PetscLogStagePop());
+  PetscCall(BwLogEnd(&log, BW_PHASE_ASSEMBLE));
 
-  /* 5. solve */
-  PetscCall(BwLogStagePush(BW_STAGE_SOLVE));
-  PetscCall(BwSolverSolve(run->solver, run->mixed));
-  t.setup = run->solver->seconds_setup;
-  t.solve = run->solver->seconds_solve;
-  PetscCall(PetscLogStagePop());
+  /* 5. solve (set-up and solve phases inside) */
+  PetscCall(BwSolverSolve(run->solver, run->mixed, &log));
 
   /* 6. recover and check */
-  PetscCall(BwLogStagePush(BW_STAGE_RECOVER));
-  PetscCall(PetscTime(&t0));
+  PetscCall(BwLogBegin(&log, BW_PHASE_RECOVER));
   PetscCall(BwMixedRecover(run->mixed, run->mixed->x, &run->results));
   PetscCall(BwMixedCheck(run->mixed, run->mixed->x, &run->results, &run->solver->check));
-  PetscCall(PetscTime(&t1));
-  t.recover = t1 - t0;
-  PetscCall(PetscLogStagePop());
+  PetscCall(BwLogEnd(&log, BW_PHASE_RECOVER));
   {
     PetscInt    n;
     const char *idle[3];
@@ -128,21 +120,29 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
 
   /* 7. write and report */
   PetscCall(BwSceneGetText(run->scene, &run->text));
-  t.total = t.generate + t.assemble + t.setup + t.solve + t.recover;
-  PetscCall(BwLogStagePush(BW_STAGE_WRITE));
-  PetscCall(BwOutputWrite(run->output, run->mixed, &run->results, run->solver, run->text, &t));
-  PetscCall(PetscLogStagePop());
+  PetscCall(BwLogBegin(&log, BW_PHASE_WRITE));
+  PetscCall(BwOutputWrite(run->output, run->mixed, &run->results, run->solver, run->text, &log));
+  PetscCall(BwLogEnd(&log, BW_PHASE_WRITE));
   {
-    BwSolver    s = run->solver;
-    PetscMPIInt size;
+    BwSolver       s = run->solver;
+    PetscMPIInt    size;
+    PetscLogDouble total, cur, peak;
+    char           blas[PETSC_MAX_PATH_LEN];
+
     PetscCallMPI(MPI_Comm_size(comm, &size));
+    PetscCall(BwLogTotal(&log, &total));
+    PetscCall(BwMemoryUsage(comm, &cur, &peak));
+    PetscCall(BwBlasName(blas, sizeof(blas)));
     PetscCall(PetscPrintf(comm, "blockwall %s%s%s\n", BW_VERSION, title[0] ? ": " : "", title));
     PetscCall(PetscPrintf(comm, "  blocks %" PetscInt_FMT ", interfaces %" PetscInt_FMT ", m %" PetscInt_FMT ", ranks %d\n", run->geom->nblocks, run->geom->ninterfaces, run->model->m, size));
     PetscCall(PetscPrintf(comm, "  unknowns: q %" PetscInt_FMT " (block dofs), r %" PetscInt_FMT " (stresses)\n", run->mixed->nq_global, run->mixed->nr_global));
     PetscCall(PetscPrintf(comm, "  method: %s (requested %s), iterations %" PetscInt_FMT "%s%s\n", BwMethods[s->used], BwMethods[s->requested], s->iterations, s->fallback ? ", fallback: " : "", s->fallback_reason));
     PetscCall(PetscPrintf(comm, "  residual %.3e (equilibrium %.3e, compatibility %.3e; rtol %.1e)\n", (double)s->check.residual, (double)s->check.equilibrium, (double)s->check.compatibility, (double)s->rtol));
     PetscCall(PetscPrintf(comm, "  equilibrium error (reactions + loads) %.3e\n", (double)s->check.equilibrium_error));
-    PetscCall(PetscPrintf(comm, "  time [s]: generate %.3f, assemble %.3f, setup %.3f, solve %.3f, recover %.3f, write %.3f, total %.3f\n", t.generate, t.assemble, t.setup, t.solve, t.recover, t.write, t.total));
+    PetscCall(PetscPrintf(comm, "  time [s]:"));
+    for (int p = 0; p < BW_NPHASES; p++) PetscCall(PetscPrintf(comm, " %s %.3f,", BwPhaseNames[p], log.seconds[p]));
+    PetscCall(PetscPrintf(comm, " total %.3f\n", total));
+    PetscCall(PetscPrintf(comm, "  memory: peak %.1f MB over all ranks (%.0f bytes per block); BLAS %s\n", peak / 1048576.0, peak / (double)run->geom->nblocks, blas));
     PetscCall(PetscPrintf(comm, "  output: %s\n", run->output->file));
   }
   PetscFunctionReturn(PETSC_SUCCESS);

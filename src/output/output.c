@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <hdf5.h>
 #include "output/output.h"
+#include "output/xdmf.h"
 #include "util/compat.h"
 
 #define BwH5Call(call) \
@@ -219,7 +220,7 @@ static PetscErrorCode BwH5AttrString(hid_t obj, const char name[], const char v[
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwTimings *t, PetscLogDouble t0)
+static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwLog *log)
 {
   BwGeometry     geom = mx->geom;
   BwModel        model = mx->model;
@@ -298,6 +299,22 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed 
     dims[2] = 2;
     PetscCall(BwH5Write(&h, "/interfaces/stress", H5T_NATIVE_DOUBLE, 3, dims, mx->nown_interfaces, mx->own_interfaces, res->stress));
   }
+  if (out->xdmf) { /* what the .xdmf beside this file needs and the schema lacks (xdmf.h) */
+    BwXdmfData x;
+    PetscCall(BwXdmfDataCreate(geom, mx->nown_blocks, mx->own_blocks, res->displacement, &x));
+    PetscCall(BwH5Group(&h, "/xdmf"));
+    dims[0] = (hsize_t)x.ntopology;
+    PetscCall(BwH5WriteAll(&h, "/xdmf/topology", H5T_NATIVE_INT64, 1, dims, x.topology));
+    dims[0] = 2 * (hsize_t)ni;
+    dims[1] = 2;
+    PetscCall(BwH5WriteAll(&h, "/xdmf/interface_points", H5T_NATIVE_DOUBLE, 2, dims, x.interface_points));
+    dims[0] = (hsize_t)ni;
+    PetscCall(BwH5WriteAll(&h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 2, dims, x.interface_topology));
+    dims[0] = (hsize_t)geom->offsets[nb];
+    dims[1] = 3;
+    PetscCall(BwH5Write(&h, "/xdmf/vertex_displacement", H5T_NATIVE_DOUBLE, 2, dims, x.nvertex_rows, x.vertex_rows, x.vertex_displacement));
+    PetscCall(BwXdmfDataDestroy(&x));
+  }
 
   /* attributes */
   root = H5Gopen2(h.file, "/", H5P_DEFAULT);
@@ -323,16 +340,18 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed 
   PetscCall(BwH5AttrInt(grp, "ranks", size));
   PetscCall(BwH5AttrInt(grp, "unknowns_q", mx->nq_global));
   PetscCall(BwH5AttrInt(grp, "unknowns_r", mx->nr_global));
+  {
+    char blas[PETSC_MAX_PATH_LEN];
+    PetscCall(BwBlasName(blas, sizeof(blas)));
+    PetscCall(BwH5AttrString(grp, "blas", blas));
+  }
   PetscCall(PetscTime(&t1));
-  t->write = t1 - t0;
-  t->total += t->write;
-  PetscCall(BwH5AttrDouble(grp, "seconds_generate", t->generate));
-  PetscCall(BwH5AttrDouble(grp, "seconds_assemble", t->assemble));
-  PetscCall(BwH5AttrDouble(grp, "seconds_setup", t->setup));
-  PetscCall(BwH5AttrDouble(grp, "seconds_solve", t->solve));
-  PetscCall(BwH5AttrDouble(grp, "seconds_recover", t->recover));
-  PetscCall(BwH5AttrDouble(grp, "seconds_write", t->write));
-  PetscCall(BwH5AttrDouble(grp, "seconds_total", t->total));
+  for (int p = 0; p < BW_NPHASES; p++) {
+    char name[64];
+    PetscCall(PetscSNPrintf(name, sizeof(name), "seconds_%s", BwPhaseNames[p]));
+    PetscCall(BwH5AttrDouble(grp, name, log->seconds[p] + (p == BW_PHASE_WRITE ? t1 - log->start : 0)));
+  }
+  PetscCall(BwH5AttrDouble(grp, "seconds_total", t1 - log->t0));
   BwH5Call(H5Gclose(grp));
   BwH5Call(H5Pclose(h.dxpl));
   BwH5Call(H5Fclose(h.file));
@@ -355,16 +374,15 @@ static PetscErrorCode BwMakeDirs(const char dir[])
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwTimings *t)
+PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwLog *log)
 {
   char           tmp[PETSC_MAX_PATH_LEN + 32], dir[PETSC_MAX_PATH_LEN], msg[3 * PETSC_MAX_PATH_LEN] = "";
+  char           xdmf[PETSC_MAX_PATH_LEN + 8], xtmp[PETSC_MAX_PATH_LEN + 40];
   PetscMPIInt    rank;
   int            pid = (int)getpid(), ok = 1;
   PetscErrorCode ierr;
-  PetscLogDouble t0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscTime(&t0));
   PetscCallMPI(MPI_Comm_rank(out->comm, &rank));
   PetscCallMPI(MPI_Bcast(&pid, 1, MPI_INT, 0, out->comm));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp-%d", out->file, pid));
@@ -377,16 +395,32 @@ PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mx, const BwResults *res, BwS
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, out->comm));
   PetscCheck(ok, out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
-  ierr = BwOutputWriteFile(out, tmp, mx, res, s, scene_text, t, t0);
+  ierr = BwOutputWriteFile(out, tmp, mx, res, s, scene_text, log);
   if (ierr) {
     if (rank == 0) unlink(tmp);
     SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "output.file: writing '%s' failed; nothing was written", out->file);
   }
   PetscCallMPI(MPI_Barrier(out->comm));
+  /* The .xdmf is written and renamed before the result file, so a failure
+   * leaves neither file behind and an existing result file untouched. */
+  if (out->xdmf) {
+    PetscCall(BwXdmfPath(out->file, xdmf, sizeof(xdmf)));
+    PetscCall(PetscSNPrintf(xtmp, sizeof(xtmp), "%s.tmp-%d", xdmf, pid));
+    errno = 0;
+    if (rank == 0 && (BwXdmfWrite(out->file, xtmp, mx->geom) || rename(xtmp, xdmf) != 0)) {
+      ok = 0;
+      snprintf(msg, sizeof(msg), "output.xdmf: cannot write '%s'%s%s; nothing was written", xdmf, errno ? ": " : "", errno ? strerror(errno) : "");
+      unlink(xtmp);
+      unlink(tmp);
+    }
+    PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, out->comm));
+    PetscCheck(ok, out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
+  }
   if (rank == 0 && rename(tmp, out->file) != 0) {
     ok = 0;
     snprintf(msg, sizeof(msg), "output.file: cannot rename '%s' to '%s': %s", tmp, out->file, strerror(errno));
     unlink(tmp);
+    if (out->xdmf) unlink(xdmf);
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, out->comm));
   PetscCheck(ok, out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);

@@ -8,10 +8,6 @@
 #pragma once
 #include "solver/solver.h"
 
-typedef struct {
-  PetscLogDouble generate, assemble, setup, solve, recover, write, total;
-} BwTimings;
-
 typedef struct _n_BwOutput *BwOutput;
 struct _n_BwOutput {
   MPI_Comm  comm;
@@ -22,5 +18,7 @@ struct _n_BwOutput {
 PetscErrorCode BwOutputCreate(MPI_Comm comm, BwOutput *out);
 /* Reads output.*; fails early if the target's directory cannot be written. */
 PetscErrorCode BwOutputSetFromOptions(BwOutput out, BwScene scene);
-PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mixed, const BwResults *res, BwSolver solver, const char scene_text[], BwTimings *t);
+/* Call inside the log's write phase: seconds_write is the time spent in it
+ * up to the attributes, which are written last. */
+PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mixed, const BwResults *res, BwSolver solver, const char scene_text[], BwLog *log);
 PetscErrorCode BwOutputDestroy(BwOutput *out);

@@ -175,22 +175,20 @@ static PetscErrorCode BwSolverSetUpDirect(BwSolver s, BwMixed mx)
 /* Runs one path. A PETSc error inside the solver (a factorisation that
  * fails, say) is a failed path, not a failed run: its code is returned in
  * *failed together with the reason, and the caller decides. */
-static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, KSP ksp, const char name[], PetscBool *ok, char reason[], size_t len)
+static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, const char name[], PetscBool *ok, char reason[], size_t len)
 {
   PetscErrorCode     ierr;
   KSPConvergedReason kr;
-  PetscLogDouble     t0, t1, t2;
 
   PetscFunctionBeginUser;
   *ok = PETSC_FALSE;
   PetscCall(VecZeroEntries(mx->x));
-  PetscCall(PetscTime(&t0));
+  PetscCall(BwLogBegin(log, BW_PHASE_SETUP));
   ierr = KSPSetUp(ksp);
-  PetscCall(PetscTime(&t1));
+  PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
+  PetscCall(BwLogBegin(log, BW_PHASE_SOLVE));
   if (!ierr) ierr = KSPSolve(ksp, mx->b, mx->x);
-  PetscCall(PetscTime(&t2));
-  s->seconds_setup += t1 - t0;
-  s->seconds_solve += t2 - t1;
+  PetscCall(BwLogEnd(log, BW_PHASE_SOLVE));
   if (ierr) {
     const char *text;
     PetscCall(PetscErrorMessage(ierr, NULL, (char **)&text));
@@ -212,7 +210,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, KSP ksp, const char na
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx)
+PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
 {
   PetscBool ok = PETSC_FALSE;
   char      reason[512];
@@ -222,7 +220,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx)
   if (s->requested != BW_METHOD_DIRECT) {
     PetscCall(BwSolverSetUpFieldsplit(s, mx));
     s->used = BW_METHOD_FIELDSPLIT;
-    PetscCall(BwSolverRun(s, mx, s->fieldsplit, "fieldsplit", &ok, reason, sizeof(reason)));
+    PetscCall(BwSolverRun(s, mx, log, s->fieldsplit, "fieldsplit", &ok, reason, sizeof(reason)));
     if (!ok && s->requested == BW_METHOD_FIELDSPLIT) SETERRQ(s->comm, PETSC_ERR_NOT_CONVERGED, "solver failed: %s (solver.method: auto would fall back to MUMPS)", reason);
     if (!ok) {
       s->fallback = PETSC_TRUE;
@@ -232,7 +230,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx)
   if (!ok) {
     PetscCall(BwSolverSetUpDirect(s, mx));
     s->used = BW_METHOD_DIRECT;
-    PetscCall(BwSolverRun(s, mx, s->direct, "direct (MUMPS)", &ok, reason, sizeof(reason)));
+    PetscCall(BwSolverRun(s, mx, log, s->direct, "direct (MUMPS)", &ok, reason, sizeof(reason)));
     PetscCheck(ok, s->comm, PETSC_ERR_NOT_CONVERGED, "solver failed: %s%s%s; the assembly may be a mechanism or the system too ill-conditioned for solver.rtol", reason, s->fallback ? "; before it, " : "", s->fallback ? s->fallback_reason : "");
   }
   /* Defaults inserted for sub-solvers the user replaced stay unused: drop them. */

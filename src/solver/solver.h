@@ -18,6 +18,7 @@
  * overrides them. */
 #pragma once
 #include "system/mixed.h"
+#include "util/log.h"
 
 typedef enum { BW_METHOD_AUTO = 0, BW_METHOD_FIELDSPLIT = 1, BW_METHOD_DIRECT = 2 } BwMethod;
 extern const char *const BwMethods[];
@@ -35,7 +36,6 @@ struct _n_BwSolver {
   char      fallback_reason[512];
   PetscInt  iterations;
   BwCheck   check;
-  PetscLogDouble seconds_setup, seconds_solve;
   /* options this object inserted as defaults; cleared again if unused */
   PetscInt ndefaults;
   char     defaults[16][96];
@@ -44,7 +44,7 @@ struct _n_BwSolver {
 PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver);
 PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene);
 /* Solves into mixed->x and fills the outcome and the residual check. */
-PetscErrorCode BwSolverSolve(BwSolver solver, BwMixed mixed);
+PetscErrorCode BwSolverSolve(BwSolver solver, BwMixed mixed, BwLog *log);
 /* Option prefixes of paths that did not run (their options are legitimately
  * unused), for BwSceneCheckUnused. */
 PetscErrorCode BwSolverGetIdlePrefixes(BwSolver solver, PetscInt *n, const char *prefixes[3]);

@@ -45,6 +45,8 @@ struct _n_BwMixed {
 /* Layout from a block partition (owner rank per block, NULL: contiguous
  * ranges), then assembly of K, S and b. */
 PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt block_owner[], BwMixed *mixed);
+/* Owner rank of every block: METIS k-way on more than one rank, NULL on one. */
+PetscErrorCode BwPartitionBlocks(BwModel model, PetscMPIInt **owner);
 PetscErrorCode BwMixedAssemble(BwMixed mixed);
 /* Error naming the blocks that can move freely (called by BwMixedCreate). */
 PetscErrorCode BwMixedCheckRestraint(BwMixed mixed);

@@ -1,23 +1,98 @@
+#include <stdio.h>
+#include <string.h>
+#include <sys/resource.h>
 #include "util/log.h"
 #include "util/compat.h"
 
-static PetscLogStage BwStages[BW_NSTAGES];
-static PetscBool     BwLogRegistered = PETSC_FALSE;
+const char *const BwPhaseNames[BW_NPHASES] = {"generate", "partition", "assemble", "setup", "solve", "recover", "write"};
 
-PetscErrorCode BwLogRegister(void)
+PetscErrorCode BwLogCreate(MPI_Comm comm, BwLog *log)
 {
-  static const char *const names[BW_NSTAGES] = {"Generate", "Assemble", "Setup+Solve", "Recover", "Write"};
+  static const char *const stages[BW_NPHASES] = {"Generate", "Partition", "Assemble", "Setup", "Solve", "Recover", "Write"};
+  static PetscLogStage     registered[BW_NPHASES];
+  static PetscBool         done = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  if (BwLogRegistered) PetscFunctionReturn(PETSC_SUCCESS);
-  for (int s = 0; s < BW_NSTAGES; s++) PetscCall(PetscLogStageRegister(names[s], &BwStages[s]));
-  BwLogRegistered = PETSC_TRUE;
+  PetscCall(PetscMemzero(log, sizeof(*log)));
+  log->comm = comm;
+  if (!done) {
+    for (int s = 0; s < BW_NPHASES; s++) PetscCall(PetscLogStageRegister(stages[s], &registered[s]));
+    done = PETSC_TRUE;
+  }
+  for (int s = 0; s < BW_NPHASES; s++) log->stage[s] = registered[s];
+  PetscCall(PetscTime(&log->t0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwLogStagePush(BwStage stage)
+PetscErrorCode BwLogBegin(BwLog *log, BwPhase phase)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscLogStagePush(BwStages[stage]));
+  PetscCall(PetscLogStagePush(log->stage[phase]));
+  PetscCall(PetscTime(&log->start));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwLogEnd(BwLog *log, BwPhase phase)
+{
+  PetscLogDouble t, dt;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscTime(&t));
+  dt = t - log->start;
+  log->seconds[phase] += dt;
+  PetscCall(PetscLogStagePop());
+  if (log->verbose) {
+    PetscLogDouble cur, peak;
+    PetscCall(BwMemoryUsage(log->comm, &cur, &peak));
+    PetscCall(PetscPrintf(log->comm, "[blockwall] %-9s %9.3f s  (elapsed %9.3f s)  memory %9.1f MB, peak %9.1f MB\n", BwPhaseNames[phase], dt, t - log->t0, cur / 1048576.0, peak / 1048576.0));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwLogTotal(BwLog *log, PetscLogDouble *total)
+{
+  PetscLogDouble t;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscTime(&t));
+  *total = t - log->t0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMemoryUsage(MPI_Comm comm, PetscLogDouble *current, PetscLogDouble *peak)
+{
+  PetscLogDouble loc[2], glob[2];
+  struct rusage  ru;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemoryGetCurrentUsage(&loc[0]));
+  getrusage(RUSAGE_SELF, &ru);
+  loc[1] = (PetscLogDouble)ru.ru_maxrss * 1024.0; /* Linux: kilobytes */
+  PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPI_DOUBLE, MPI_SUM, comm));
+  *current = glob[0];
+  *peak    = glob[1];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwBlasName(char name[], size_t len)
+{
+  FILE *f = fopen("/proc/self/maps", "r");
+  char  line[4096];
+
+  PetscFunctionBeginUser;
+  (void)snprintf(name, len, "unknown");
+  if (!f) PetscFunctionReturn(PETSC_SUCCESS);
+  while (fgets(line, sizeof(line), f)) {
+    char *path = strchr(line, '/');
+    if (!path) continue;
+    path[strcspn(path, "\n")] = 0;
+    /* the library that provides dgemm: libblas.so.3 (resolved to its
+     * alternative, e.g. openblas-pthread) or an OpenBLAS/MKL/BLIS of its own */
+    if (strstr(path, "libblas") || strstr(path, "libopenblas") || strstr(path, "libmkl_rt") || strstr(path, "libblis")) {
+      (void)snprintf(name, len, "%s", path);
+      break;
+    }
+  }
+  fclose(f);
   PetscFunctionReturn(PETSC_SUCCESS);
 }

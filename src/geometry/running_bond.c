@@ -1,0 +1,246 @@
+/* Running-bond walls (interface.md, "Geometry the generators make").
+ *
+ * n = units_per_course, unit l_u x h_u, joint thickness e:
+ *   wall length L = n l_u + (n-1) e; course k in y in [k (h_u+e), k (h_u+e) + h_u]
+ *   even courses: n full units from x = 0
+ *   odd courses:  half unit (l_u - e)/2, n-1 full units, half unit
+ *   foundation [0,L] x [-e-h_f, -e], top beam [0,L] x [y_top+e, y_top+e+h_b]
+ * so every head joint sits over the middle of a unit below. Units whose
+ * centroid lies in an opening (closed rectangle x0,y0,x1,y1) are left out.
+ *
+ * Interfaces come from the pattern itself, not from a search: head joints
+ * join neighbours in a course (length h_u, n from left to right, theta =
+ * -pi/2); bed joints join blocks of adjacent rows over their x-overlap, found
+ * by one merge sweep of the two rows' sorted intervals (n upwards, theta = 0).
+ * Everything is O(N). Interfaces are emitted sorted by (i, j).
+ * Block order: foundation, courses bottom to top each from the left, top beam. */
+#include "geometry/geometry.h"
+#include "util/compat.h"
+
+typedef struct {
+  PetscInt  first, n;  /* block indices first..first+n-1, left to right */
+  PetscReal y0, y1;    /* extent of the row */
+  PetscReal *x0, *x1;  /* extents of its blocks */
+} BwRow;
+
+/* Bed joints between row `lo` (below) and row `hi` (above); collects the
+ * interface as (i, j, x-centre, length) into the arrays. */
+static PetscErrorCode BwBedJoints(const BwRow *lo, const BwRow *hi, PetscReal tol, PetscInt *nbed, PetscInt (*pair)[2], PetscReal (*geo)[2])
+{
+  PetscInt a = 0, b = 0;
+
+  PetscFunctionBeginUser;
+  while (a < lo->n && b < hi->n) {
+    PetscReal x0 = PetscMax(lo->x0[a], hi->x0[b]), x1 = PetscMin(lo->x1[a], hi->x1[b]);
+    if (x1 - x0 > tol) {
+      pair[*nbed][0] = lo->first + a;
+      pair[*nbed][1] = hi->first + b;
+      geo[*nbed][0]  = 0.5 * (x0 + x1);
+      geo[*nbed][1]  = x1 - x0;
+      (*nbed)++;
+    }
+    if (lo->x1[a] < hi->x1[b]) a++;
+    else b++;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  PetscInt  i, j;
+  PetscReal G[2], angle, length;
+  BwJointKind kind;
+} BwPendingInterface;
+
+static int BwPendingCompare(const void *pa, const void *pb)
+{
+  const BwPendingInterface *a = pa, *b = pb;
+  if (a->i != b->i) return a->i < b->i ? -1 : 1;
+  if (a->j != b->j) return a->j < b->j ? -1 : 1;
+  return (a->G[0] > b->G[0]) - (a->G[0] < b->G[0]);
+}
+
+PetscErrorCode BwGeneratorRunningBond(BwGeometry g, BwScene scene, PetscReal e)
+{
+  PetscInt            courses = 18, n = 10, nopen = 0, nrows, nunits = 0, nint = 0, maxint;
+  PetscReal           lu = 0.21, hu = 0.052, hf = 0.1, hb = 0.1, openings[4 * 64], L, half, tol;
+  PetscBool           foundation = PETSC_TRUE, top_beam = PETSC_TRUE;
+  BwRow              *rows;
+  BwPendingInterface *pend;
+  PetscReal          *xs0, *xs1;
+  PetscInt           *units, *bottom, *top, nbottom = 0, ntop = 0;
+
+  PetscFunctionBeginUser;
+  nopen = 4 * 64;
+  PetscOptionsBegin(g->comm, NULL, "Running-bond wall (scene key geometry.running_bond.*)", NULL);
+  PetscCall(PetscOptionsInt("-geometry_running_bond_courses", "Number of courses", NULL, courses, &courses, NULL));
+  PetscCall(PetscOptionsInt("-geometry_running_bond_units_per_course", "Full units in a course that starts with one", NULL, n, &n, NULL));
+  PetscCall(PetscOptionsReal("-geometry_running_bond_unit_length", "Unit length l_u [m]", NULL, lu, &lu, NULL));
+  PetscCall(PetscOptionsReal("-geometry_running_bond_unit_height", "Unit height h_u [m]", NULL, hu, &hu, NULL));
+  PetscCall(PetscOptionsBool("-geometry_running_bond_foundation", "One block under the whole bottom course", NULL, foundation, &foundation, NULL));
+  PetscCall(PetscOptionsReal("-geometry_running_bond_foundation_height", "Foundation height h_f [m]", NULL, hf, &hf, NULL));
+  PetscCall(PetscOptionsBool("-geometry_running_bond_top_beam", "One block over the whole top course", NULL, top_beam, &top_beam, NULL));
+  PetscCall(PetscOptionsReal("-geometry_running_bond_top_beam_height", "Top beam height h_b [m]", NULL, hb, &hb, NULL));
+  PetscCall(PetscOptionsRealArray("-geometry_running_bond_openings", "Openings x0,y0,x1,y1,... : units whose centroid lies inside are left out [m]", NULL, openings, &nopen, NULL));
+  PetscOptionsEnd();
+  if (courses < 1) PetscCall(BwSceneError(scene, "-geometry_running_bond_courses", "must be >= 1, got %" PetscInt_FMT, courses));
+  if (n < 1) PetscCall(BwSceneError(scene, "-geometry_running_bond_units_per_course", "must be >= 1, got %" PetscInt_FMT, n));
+  if (!(lu > 0 && PetscIsNormalReal(lu))) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_length", "must be > 0, got %g", (double)lu));
+  if (!(hu > 0 && PetscIsNormalReal(hu))) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_height", "must be > 0, got %g", (double)hu));
+  if (!(hf > 0 && PetscIsNormalReal(hf))) PetscCall(BwSceneError(scene, "-geometry_running_bond_foundation_height", "must be > 0, got %g", (double)hf));
+  if (!(hb > 0 && PetscIsNormalReal(hb))) PetscCall(BwSceneError(scene, "-geometry_running_bond_top_beam_height", "must be > 0, got %g", (double)hb));
+  if (!(lu > e)) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_length", "must exceed the joint thickness %g so that half units (l_u - e)/2 exist, got %g", (double)e, (double)lu));
+  if (nopen % 4) PetscCall(BwSceneError(scene, "-geometry_running_bond_openings", "must hold 4 numbers x0, y0, x1, y1 per opening, got %" PetscInt_FMT, nopen));
+  nopen /= 4;
+  for (PetscInt o = 0; o < nopen; o++) {
+    const PetscReal *r = &openings[4 * o];
+    if (!(r[2] > r[0] && r[3] > r[1])) PetscCall(BwSceneError(scene, "-geometry_running_bond_openings", "opening %" PetscInt_FMT " needs x0 < x1 and y0 < y1, got [%g, %g, %g, %g]", o, (double)r[0], (double)r[1], (double)r[2], (double)r[3]));
+  }
+
+  L    = n * lu + (n - 1) * e;
+  half = 0.5 * (lu - e);
+  tol  = 1e-9 * lu;
+  nrows = courses + (foundation ? 1 : 0) + (top_beam ? 1 : 0);
+  PetscCall(PetscCalloc1(nrows, &rows));
+  PetscCall(PetscMalloc2((courses * (n + 1) + 2), &xs0, (courses * (n + 1) + 2), &xs1));
+  PetscCall(PetscMalloc3(courses * (n + 1), &units, n + 1, &bottom, n + 1, &top));
+
+  /* blocks, row by row */
+  {
+    PetscInt r = 0, used = 0;
+    if (foundation) {
+      rows[r].first = g->nblocks;
+      rows[r].n     = 1;
+      rows[r].x0    = xs0 + used;
+      rows[r].x1    = xs1 + used;
+      rows[r].y0    = -e - hf;
+      rows[r].y1    = -e;
+      xs0[used]     = 0;
+      xs1[used++]   = L;
+      PetscCall(BwGeometryAddRectangle(g, 0, -e - hf, L, -e, NULL));
+      r++;
+    }
+    for (PetscInt k = 0; k < courses; k++, r++) {
+      PetscReal y0 = k * (hu + e), y1 = y0 + hu;
+      PetscInt  nu = k % 2 ? n + 1 : n;
+      rows[r].first = g->nblocks;
+      rows[r].x0    = xs0 + used;
+      rows[r].x1    = xs1 + used;
+      rows[r].y0    = y0;
+      rows[r].y1    = y1;
+      for (PetscInt p = 0; p < nu; p++) {
+        PetscReal x0, x1;
+        PetscBool open = PETSC_FALSE;
+        if (k % 2 == 0) {
+          x0 = p * (lu + e);
+          x1 = x0 + lu;
+        } else if (p == 0) {
+          x0 = 0;
+          x1 = half;
+        } else if (p == nu - 1) {
+          x0 = L - half;
+          x1 = L;
+        } else {
+          x0 = half + e + (p - 1) * (lu + e);
+          x1 = x0 + lu;
+        }
+        for (PetscInt o = 0; o < nopen && !open; o++) {
+          const PetscReal *q = &openings[4 * o], cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+          open = (cx >= q[0] && cx <= q[2] && cy >= q[1] && cy <= q[3]) ? PETSC_TRUE : PETSC_FALSE;
+        }
+        if (open) continue;
+        xs0[used]       = x0;
+        xs1[used++]     = x1;
+        units[nunits++] = g->nblocks;
+        if (k == 0) bottom[nbottom++] = g->nblocks;
+        if (k == courses - 1) top[ntop++] = g->nblocks;
+        rows[r].n++;
+        PetscCall(BwGeometryAddRectangle(g, x0, y0, x1, y1, NULL));
+      }
+    }
+    if (top_beam) {
+      PetscReal ytop = (courses - 1) * (hu + e) + hu;
+      rows[r].first = g->nblocks;
+      rows[r].n     = 1;
+      rows[r].x0    = xs0 + used;
+      rows[r].x1    = xs1 + used;
+      rows[r].y0    = ytop + e;
+      rows[r].y1    = ytop + e + hb;
+      xs0[used]     = 0;
+      xs1[used++]   = L;
+      PetscCall(BwGeometryAddRectangle(g, 0, ytop + e, L, ytop + e + hb, NULL));
+    }
+  }
+
+  /* interfaces: head joints within courses, bed joints between rows */
+  maxint = 3 * g->nblocks + 2 * (n + 2);
+  PetscCall(PetscMalloc1(maxint, &pend));
+  {
+    PetscInt (*pair)[2];
+    PetscReal(*geo)[2];
+    PetscCall(PetscMalloc2(2 * (n + 2), &pair, 2 * (n + 2), &geo));
+    for (PetscInt r = 0; r < nrows; r++) {
+      const BwRow *row = &rows[r];
+      PetscBool    course = !((foundation && r == 0) || (top_beam && r == nrows - 1));
+      if (course) {
+        for (PetscInt p = 0; p + 1 < row->n; p++) {
+          /* neighbours only: a unit removed by an opening breaks the joint */
+          if (PetscAbsReal(row->x0[p + 1] - row->x1[p] - e) > tol) continue;
+          BwPendingInterface *f = &pend[nint++];
+          f->i      = row->first + p;
+          f->j      = row->first + p + 1;
+          f->G[0]   = row->x1[p] + 0.5 * e;
+          f->G[1]   = 0.5 * (row->y0 + row->y1);
+          f->angle  = -0.5 * PETSC_PI;
+          f->length = hu;
+          f->kind   = BW_JOINT_HEAD;
+        }
+      }
+      if (r + 1 < nrows) {
+        PetscInt  nbed = 0;
+        PetscReal ygap;
+        PetscCall(BwBedJoints(row, &rows[r + 1], tol, &nbed, pair, geo));
+        /* the gap between the rows, from the blocks' own coordinates */
+        ygap = 0.5 * (row->y1 + rows[r + 1].y0);
+        for (PetscInt q = 0; q < nbed; q++) {
+          BwPendingInterface *f = &pend[nint++];
+          f->i      = pair[q][0];
+          f->j      = pair[q][1];
+          f->G[0]   = geo[q][0];
+          f->G[1]   = ygap;
+          f->angle  = 0;
+          f->length = geo[q][1];
+          f->kind   = BW_JOINT_BED;
+        }
+      }
+      PetscCheck(nint + 2 * (n + 2) <= maxint, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface estimate exceeded");
+    }
+    PetscCall(PetscFree2(pair, geo));
+  }
+  qsort(pend, (size_t)nint, sizeof(*pend), BwPendingCompare);
+  for (PetscInt f = 0; f < nint; f++) PetscCall(BwGeometryAddInterface(g, pend[f].i, pend[f].j, pend[f].G, pend[f].angle, pend[f].length, pend[f].kind));
+
+  /* sets */
+  if (foundation) {
+    const PetscInt f0 = 0;
+    PetscCall(BwGeometryAddSet(g, "foundation", 1, &f0));
+  }
+  if (top_beam) {
+    const PetscInt tb = g->nblocks - 1;
+    PetscCall(BwGeometryAddSet(g, "top_beam", 1, &tb));
+  }
+  PetscCall(BwGeometryAddSet(g, "bottom_course", nbottom, bottom));
+  PetscCall(BwGeometryAddSet(g, "top_course", ntop, top));
+  PetscCall(BwGeometryAddSet(g, "units", nunits, units));
+  {
+    PetscInt *all;
+    PetscCall(PetscMalloc1(g->nblocks, &all));
+    for (PetscInt b = 0; b < g->nblocks; b++) all[b] = b;
+    PetscCall(BwGeometryAddSet(g, "all", g->nblocks, all));
+    PetscCall(PetscFree(all));
+  }
+  PetscCall(PetscFree(pend));
+  PetscCall(PetscFree3(units, bottom, top));
+  PetscCall(PetscFree2(xs0, xs1));
+  PetscCall(PetscFree(rows));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

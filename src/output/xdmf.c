@@ -1,0 +1,210 @@
+/* The XDMF file beside the HDF5 result (see xdmf.h for what it describes).
+ *
+ * Layout, and why:
+ * - One Domain with two Uniform grids, "blocks" and "interfaces": ParaView
+ *   opens them as one multiblock data set, so blocks and interfaces can be
+ *   shown and coloured independently.
+ * - Blocks: a Mixed topology, because blocks may have different vertex
+ *   counts (a file geometry may hold any polygon). Each cell is its XDMF
+ *   type code followed by its vertex ids; a Polygon (code 3) also carries
+ *   its vertex count. A convex quadrilateral is written as Quadrilateral
+ *   (code 5) and a triangle as Triangle (code 4) instead of Polygon: the
+ *   same cell to ParaView, but meshio (5.3), the reader our tests use, knows
+ *   no Polygon in a Mixed topology, so walls of rectangular blocks (every
+ *   generator's) stay readable by it too. A non-convex quadrilateral stays
+ *   a Polygon, which VTK triangulates correctly where a quad would not.
+ *   The vertices are /blocks/vertices as they are (Geometry XY); the
+ *   connectivity is /xdmf/topology, written by BwOutput.
+ * - Interfaces: Polyline cells of 2 nodes, points G -/+ l/2 t, t = (cos
+ *   theta, sin theta), so the line lies where the joint's mid-plane is.
+ * - Fields are cell data at their HDF5 datasets; the only point field is
+ *   the rigid-body displacement of every vertex,
+ *       u(x) = (u1 - w (x2 - c2), u2 + w (x1 - c1), 0),
+ *   with 3 components so that Warp By Vector moves the polygons' corners
+ *   (a cell field cannot warp anything). The per-portion stresses (I, m, 2)
+ *   are no field of a line cell and are left to the HDF5 file.
+ * - Keys in their XDMF 2 spelling (TopologyType, GeometryType,
+ *   AttributeType, NumberType), which XDMF 3 readers accept as well, so
+ *   ParaView's Xdmf3 readers and its legacy Xdmf reader both open the file. */
+#include <string.h>
+#include "output/xdmf.h"
+#include "util/compat.h"
+
+/* Cell type codes of XDMF (XdmfTopologyType). */
+enum { BW_XDMF_POLYGON = 0x3, BW_XDMF_TRIANGLE = 0x4, BW_XDMF_QUADRILATERAL = 0x5 };
+
+static int BwXdmfCellType(BwGeometry g, PetscInt b)
+{
+  PetscInt         n = g->offsets[b + 1] - g->offsets[b];
+  const PetscReal *v = g->vertices + 2 * g->offsets[b];
+
+  if (n == 3) return BW_XDMF_TRIANGLE;
+  if (n != 4) return BW_XDMF_POLYGON;
+  /* counter-clockwise and convex: every corner turns left */
+  for (PetscInt k = 0; k < 4; k++) {
+    const PetscReal *p = v + 2 * k, *q = v + 2 * ((k + 1) % 4), *r = v + 2 * ((k + 2) % 4);
+    if ((q[0] - p[0]) * (r[1] - q[1]) - (q[1] - p[1]) * (r[0] - q[0]) <= 0) return BW_XDMF_POLYGON;
+  }
+  return BW_XDMF_QUADRILATERAL;
+}
+
+static PetscInt BwXdmfTopologyLength(BwGeometry g)
+{
+  PetscInt len = 0;
+
+  for (PetscInt b = 0; b < g->nblocks; b++) len += 1 + (BwXdmfCellType(g, b) == BW_XDMF_POLYGON) + g->offsets[b + 1] - g->offsets[b];
+  return len;
+}
+
+PetscErrorCode BwXdmfDataCreate(BwGeometry geom, PetscInt nown, const PetscInt own[], const PetscReal displacement[], BwXdmfData *x)
+{
+  PetscInt nb = geom->nblocks, ni = geom->ninterfaces, k = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(x, sizeof(*x)));
+  x->ntopology = BwXdmfTopologyLength(geom);
+  PetscCall(PetscMalloc3(x->ntopology + 1, &x->topology, 4 * ni + 1, &x->interface_points, 2 * ni + 1, &x->interface_topology));
+  for (PetscInt b = 0; b < nb; b++) {
+    int type = BwXdmfCellType(geom, b);
+    x->topology[k++] = type;
+    if (type == BW_XDMF_POLYGON) x->topology[k++] = geom->offsets[b + 1] - geom->offsets[b];
+    for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++) x->topology[k++] = v;
+  }
+  for (PetscInt i = 0; i < ni; i++) {
+    PetscReal h = 0.5 * geom->length[i], t[2] = {PetscCosReal(geom->angle[i]), PetscSinReal(geom->angle[i])};
+    for (int d = 0; d < 2; d++) {
+      x->interface_points[4 * i + d]     = geom->center[2 * i + d] - h * t[d];
+      x->interface_points[4 * i + 2 + d] = geom->center[2 * i + d] + h * t[d];
+    }
+    x->interface_topology[2 * i]     = 2 * i;
+    x->interface_topology[2 * i + 1] = 2 * i + 1;
+  }
+  for (PetscInt e = 0; e < nown; e++) x->nvertex_rows += geom->offsets[own[e] + 1] - geom->offsets[own[e]];
+  PetscCall(PetscMalloc2(x->nvertex_rows + 1, &x->vertex_rows, 3 * x->nvertex_rows + 1, &x->vertex_displacement));
+  k = 0;
+  for (PetscInt e = 0; e < nown; e++) {
+    PetscInt         b = own[e];
+    const PetscReal *u = displacement + 3 * e, *c = geom->centroid + 2 * b;
+    for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++, k++) {
+      const PetscReal *p = geom->vertices + 2 * v;
+      x->vertex_rows[k]                 = v;
+      x->vertex_displacement[3 * k]     = u[0] - u[2] * (p[1] - c[1]);
+      x->vertex_displacement[3 * k + 1] = u[1] + u[2] * (p[0] - c[0]);
+      x->vertex_displacement[3 * k + 2] = 0;
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwXdmfDataDestroy(BwXdmfData *x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree3(x->topology, x->interface_points, x->interface_topology));
+  PetscCall(PetscFree2(x->vertex_rows, x->vertex_displacement));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwXdmfPath(const char h5file[], char xdmffile[], size_t len)
+{
+  const char *slash = strrchr(h5file, '/'), *base = slash ? slash + 1 : h5file, *dot = strrchr(base, '.');
+  int         n;
+
+  PetscFunctionBeginUser;
+  /* no extension, a hidden file's leading dot, or already .xdmf: append */
+  if (!dot || dot == base || !strcmp(dot, ".xdmf")) dot = base + strlen(base);
+  n = snprintf(xdmffile, len, "%.*s.xdmf", (int)(dot - h5file), h5file);
+  PetscCheck(n >= 0 && (size_t)n < len, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "output.file: '%s' is too long for its .xdmf name", h5file);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The characters XML does not allow as they are in an element's text. */
+static PetscErrorCode BwXmlEscape(const char in[], char out[], size_t len)
+{
+  size_t k = 0;
+
+  PetscFunctionBeginUser;
+  for (const char *c = in; *c; c++) {
+    const char *s = *c == '&' ? "&amp;" : *c == '<' ? "&lt;" : *c == '>' ? "&gt;" : NULL;
+    size_t      n = s ? strlen(s) : 1;
+    PetscCheck(k + n < len, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "output.file: '%s' is too long", in);
+    if (s) memcpy(out + k, s, n);
+    else out[k] = *c;
+    k += n;
+  }
+  out[k] = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A DataItem pointing at dataset `path` of the result file `ref`. */
+static PetscErrorCode BwXdmfItem(FILE *fp, const char indent[], const char ref[], const char path[], const char dims[], const char type[], int precision)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "%s<DataItem Dimensions=\"%s\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:%s</DataItem>\n", indent, dims, type, precision, ref, path));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A field: `n` rows (points or cells) of `width` values (1: a scalar). */
+static PetscErrorCode BwXdmfField(FILE *fp, const char ref[], const char name[], const char center[], const char path[], PetscInt n, PetscInt width, const char type[], int precision)
+{
+  char dims[64];
+
+  PetscFunctionBeginUser;
+  if (width > 1) PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " %" PetscInt_FMT, n, width));
+  else PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, n));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"%s\">\n", name, width > 1 ? "Vector" : "Scalar", center));
+  PetscCall(BwXdmfItem(fp, "        ", ref, path, dims, type, precision));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Attribute>\n"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom)
+{
+  const char *slash = strrchr(h5file, '/');
+  char        ref[3 * PETSC_MAX_PATH_LEN], dims[64];
+  PetscInt    nb = geom->nblocks, nv = geom->offsets[nb], ni = geom->ninterfaces;
+  FILE       *fp;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwXmlEscape(slash ? slash + 1 : h5file, ref, sizeof(ref)));
+  PetscCall(PetscFOpen(PETSC_COMM_SELF, xdmffile, "w", &fp));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<?xml version=\"1.0\" ?>\n<!-- blockwall %s: blocks and interfaces of the HDF5 file named below, which must stay beside this file -->\n", BW_VERSION));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<Xdmf Version=\"3.0\">\n  <Domain>\n"));
+
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Grid Name=\"blocks\" GridType=\"Uniform\">\n"));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Mixed\" NumberOfElements=\"%" PetscInt_FMT "\">\n", nb));
+  PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, BwXdmfTopologyLength(geom)));
+  PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/topology", dims, "Int", 8));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"XY\">\n"));
+  PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", nv));
+  PetscCall(BwXdmfItem(fp, "        ", ref, "/blocks/vertices", dims, "Float", 8));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
+  PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", "/xdmf/vertex_displacement", nv, 3, "Float", 8));
+  PetscCall(BwXdmfField(fp, ref, "displacement", "Cell", "/blocks/displacement", nb, 3, "Float", 8));
+  PetscCall(BwXdmfField(fp, ref, "reaction", "Cell", "/blocks/reaction", nb, 3, "Float", 8));
+  PetscCall(BwXdmfField(fp, ref, "load", "Cell", "/blocks/load", nb, 3, "Float", 8));
+  PetscCall(BwXdmfField(fp, ref, "prescribed", "Cell", "/blocks/prescribed", nb, 3, "Char", 1));
+  PetscCall(BwXdmfField(fp, ref, "centroid", "Cell", "/blocks/centroid", nb, 2, "Float", 8));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    </Grid>\n"));
+
+  /* an empty grid is an error to some readers: no interfaces, no grid */
+  if (ni > 0) {
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Grid Name=\"interfaces\" GridType=\"Uniform\">\n"));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"%" PetscInt_FMT "\">\n", ni));
+    PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", ni));
+    PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_topology", dims, "Int", 8));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"XY\">\n"));
+    PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", 2 * ni));
+    PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_points", dims, "Float", 8));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
+    PetscCall(BwXdmfField(fp, ref, "resultant", "Cell", "/interfaces/resultant", ni, 3, "Float", 8));
+    PetscCall(BwXdmfField(fp, ref, "relative_displacement", "Cell", "/interfaces/relative_displacement", ni, 3, "Float", 8));
+    PetscCall(BwXdmfField(fp, ref, "kn", "Cell", "/interfaces/kn", ni, 1, "Float", 8));
+    PetscCall(BwXdmfField(fp, ref, "kt", "Cell", "/interfaces/kt", ni, 1, "Float", 8));
+    PetscCall(BwXdmfField(fp, ref, "blocks", "Cell", "/interfaces/blocks", ni, 2, "Int", 8));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    </Grid>\n"));
+  }
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  </Domain>\n</Xdmf>\n"));
+  PetscCheck(!ferror(fp), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "output.xdmf: cannot write '%s'", xdmffile);
+  PetscCall(PetscFClose(PETSC_COMM_SELF, fp));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,65 @@
+"""tools/plot: PNGs of a blockwall result file, and its summary on stdout."""
+import argparse
+import os
+import sys
+
+from .plots import COLORS, plot_interface_stress, plot_wall
+from .results import load
+from .summary import summary
+
+DEFAULT_ALL = 8    # up to this many interfaces, draw every stress diagram ...
+DEFAULT_FIRST = 4  # ... else the first few
+
+
+def _interfaces(text, n):
+    if text is None:
+        return list(range(n if n <= DEFAULT_ALL else DEFAULT_FIRST))
+    try:
+        chosen = [int(t) for t in text.split(",") if t.strip()]
+    except ValueError:
+        raise ValueError(f"--interfaces: comma-separated integers expected, got {text!r}") from None
+    bad = [k for k in chosen if not 0 <= k < n]
+    if bad:
+        raise ValueError(f"--interfaces: {', '.join(map(str, bad))} out of range (the file has {n} interfaces)")
+    return chosen
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(
+        prog="tools/plot",
+        description="Draw a blockwall result: the deformed wall (STEM_wall.png) and the normal and shear "
+                    "stress diagrams along interfaces (STEM_stress_K.png); print the file's attributes.")
+    p.add_argument("file", help="HDF5 result file written by blockwall")
+    p.add_argument("--outdir", help="directory for the PNGs (default: beside the file)")
+    p.add_argument("--color", choices=list(COLORS), default="umag", help="block colour (default: umag)")
+    p.add_argument("--scale", type=float,
+                   help="displacement amplification (default: largest displacement ~5%% of the wall's size)")
+    p.add_argument("--interfaces", help=f"comma-separated interface indices for the stress diagrams "
+                                        f"(default: all if at most {DEFAULT_ALL}, else the first {DEFAULT_FIRST})")
+    p.add_argument("--dpi", type=int, default=150)
+    args = p.parse_args(argv)
+    try:
+        if args.scale is not None and not args.scale > 0:
+            raise ValueError(f"--scale must be > 0, got {args.scale:g}")
+        res = load(args.file)
+        chosen = _interfaces(args.interfaces, res.ninterfaces)
+    except (OSError, ValueError) as e:
+        print(f"plot: error: {e}", file=sys.stderr)
+        return 1
+
+    print(summary(res))
+    outdir = args.outdir or os.path.dirname(args.file) or "."
+    os.makedirs(outdir, exist_ok=True)
+    stem = os.path.splitext(os.path.basename(args.file))[0]
+    wall = plot_wall(res, args.color, args.scale)
+    path = os.path.join(outdir, f"{stem}_wall.png")
+    wall.figure.savefig(path, dpi=args.dpi)
+    print(f"wall, displacements x{wall.scale:g}: {path}")
+    if res.stress is None:
+        print("no stress diagrams: the file has no /interfaces/stress (output.stresses false)")
+        return 0
+    for k in chosen:
+        path = os.path.join(outdir, f"{stem}_stress_{k}.png")
+        plot_interface_stress(res, k).figure.savefig(path, dpi=args.dpi)
+        print(f"stresses along interface {k}: {path}")
+    return 0

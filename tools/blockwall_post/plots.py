@@ -1,0 +1,175 @@
+"""Pictures of a result: the deformed wall, and the stress diagrams along
+interfaces (for the paper's two-block cases, its Fig. 8).
+
+Figures are drawn on matplotlib's Agg canvas directly (no pyplot, no
+display, no global backend switch), and every function returns the arrays
+it drew, so that a test can compare them with the HDF5 datasets.
+
+Deformed shape: each vertex x of block b is drawn at x + s u_b(x), u_b the
+block's rigid motion (results.py), s the amplification factor. Left to
+itself, s makes the largest vertex displacement about 5 % of the wall's
+size, rounded to one significant digit so the title states a plain number.
+
+Stresses: the model's stresses are constant on each of the m equal portions
+of an interface, so the diagram is a step function over the portions,
+x measured along t from the interface's centre G (the model's x_p)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection, PolyCollection
+from matplotlib.colors import Normalize
+from matplotlib.figure import Figure
+
+from .results import rigid_displacement
+
+# --color: label and value per block (at the centroid)
+COLORS = {
+    "u1": ("u1 [m]", lambda d: d[:, 0]),
+    "u2": ("u2 [m]", lambda d: d[:, 1]),
+    "w": ("w [rad]", lambda d: d[:, 2]),
+    "umag": ("|u| = sqrt(u1² + u2²) [m]", lambda d: np.hypot(d[:, 0], d[:, 1])),
+}
+
+
+@dataclass
+class WallPlot:
+    figure: Figure
+    ax: object
+    scale: float                    # amplification factor s
+    size: float                     # the larger side of the undeformed bounding box [m]
+    max_displacement: float         # largest |u(x)| over all vertices [m]
+    color: str
+    block_values: np.ndarray        # (B,) the colour of each block
+    polygons: list                  # B arrays (n_b, 2): the deformed polygons drawn
+    interface_segments: np.ndarray  # (I, 2, 2): the deformed interface lines drawn
+    interface_values: np.ndarray    # (I,) their colour: mean normal stress N/(l s) [Pa]
+
+
+@dataclass
+class StressPlot:
+    figure: Figure
+    axes: dict                      # "normal", "shear"
+    index: int
+    edges: np.ndarray               # (m+1,) portion ends along t from G [m]
+    normal: np.ndarray              # (m,) [Pa]
+    shear: np.ndarray               # (m,) [Pa]
+    lines: dict                     # "normal", "shear": the step lines (Line2D)
+    mean: dict                      # "normal": N/(l s), "shear": T/(l s)
+
+
+def _vertex_displacements(res):
+    """(V, 2): u(x) at every vertex, block by block."""
+    return np.concatenate([res.vertex_displacement(b) for b in range(res.nblocks)]) if res.nblocks else np.zeros((0, 2))
+
+
+def _size(res):
+    span = res.vertices.max(axis=0) - res.vertices.min(axis=0)
+    return float(max(span.max(), 0.0))
+
+
+def auto_scale(res, fraction=0.05):
+    """Amplification making the largest vertex displacement ~`fraction` of the wall's size."""
+    umax = float(np.max(np.hypot(*_vertex_displacements(res).T), initial=0.0))
+    size = _size(res)
+    if umax == 0 or size == 0 or not np.isfinite(umax):
+        return 1.0
+    raw = fraction * size / umax
+    exponent = np.floor(np.log10(raw))
+    return float(round(raw / 10**exponent) * 10**exponent)
+
+
+def _symmetric(values):
+    a = float(np.max(np.abs(values), initial=0.0))
+    return Normalize(-a, a) if a > 0 else Normalize(-1, 1)
+
+
+def _canvas(figsize, layout="constrained"):
+    fig = Figure(figsize=figsize, layout=layout)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def plot_wall(res, color="umag", scale=None):
+    """The deformed wall: blocks coloured by `color` (u1, u2, w, umag), the
+    interfaces by their mean normal stress N/(l s), the undeformed outline
+    dashed. `scale` None chooses the amplification (auto_scale)."""
+    if color not in COLORS:
+        raise ValueError(f"color must be one of {', '.join(COLORS)}, got {color!r}")
+    s = auto_scale(res) if scale is None else float(scale)
+    label, quantity = COLORS[color]
+    values = quantity(res.displacement)
+    polygons = [res.polygon(b) + s * res.vertex_displacement(b) for b in range(res.nblocks)]
+
+    ends = res.interface_ends()
+    segments = ends.copy()
+    for k, (i, j) in enumerate(res.pairs):
+        # the joint's mid-line moves with the mean of its two blocks
+        u = 0.5 * (rigid_displacement(ends[k], res.displacement[i], res.centroid[i])
+                   + rigid_displacement(ends[k], res.displacement[j], res.centroid[j]))
+        segments[k] += s * u
+    stress = res.mean_stress()[:, 1] if res.ninterfaces else np.zeros(0)
+
+    lo, hi = res.vertices.min(axis=0), res.vertices.max(axis=0)
+    aspect = (hi[1] - lo[1]) / max(hi[0] - lo[0], 1e-300)
+    # "compressed" is the constrained layout for equal-aspect axes
+    fig = _canvas((10, float(np.clip(6.5 * aspect, 2.5, 12)) + 1.2), layout="compressed")
+    ax = fig.add_subplot()
+    ax.add_collection(PolyCollection([res.polygon(b) for b in range(res.nblocks)], facecolors="none",
+                                     edgecolors="0.6", linewidths=0.5, linestyles="--"))
+    blocks = PolyCollection(polygons, array=values, cmap="viridis" if color == "umag" else "PuOr_r",
+                            norm=None if color == "umag" else _symmetric(values), edgecolors="k", linewidths=0.4)
+    ax.add_collection(blocks)
+    fig.colorbar(blocks, ax=ax, label=f"blocks: {label}", fraction=0.05, pad=0.02)
+    if res.ninterfaces:
+        joints = LineCollection(segments, array=stress, cmap="RdBu_r", norm=_symmetric(stress), linewidths=2.5)
+        ax.add_collection(joints)
+        fig.colorbar(joints, ax=ax, label="interfaces: mean normal stress N/(l s) [Pa]", fraction=0.05, pad=0.02)
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.set_xlabel("x1 [m]")
+    ax.set_ylabel("x2 [m]")
+    title = res.title or "blockwall"
+    ax.set_title(f"{title}\ndeformed shape, displacements ×{s:g}")
+    umax = float(np.max(np.hypot(*_vertex_displacements(res).T), initial=0.0))
+    return WallPlot(fig, ax, s, _size(res), umax, color, values, polygons, segments, stress)
+
+
+def _steps(edges, values):
+    """The polyline of a piecewise-constant function: x = e0 e1 e1 e2 ... em, y = v0 v0 v1 v1 ..."""
+    return np.repeat(edges, 2)[1:-1], np.repeat(values, 2)
+
+
+def plot_interface_stress(res, k):
+    """Normal (top) and shear (bottom) stress along interface k, per portion."""
+    if res.stress is None:
+        raise ValueError(f"{res.path} has no /interfaces/stress (written with output.stresses false)")
+    if not 0 <= k < res.ninterfaces:
+        raise ValueError(f"interface {k} does not exist (0..{res.ninterfaces - 1})")
+    edges = res.portion_edges(k)
+    shear, normal = res.stress[k, :, 0], res.stress[k, :, 1]
+    mean_shear, mean_normal = res.mean_stress()[k]
+    fig = _canvas((7, 6))
+    ax_n = fig.add_subplot(2, 1, 1)
+    ax_t = fig.add_subplot(2, 1, 2, sharex=ax_n)
+    lines = {}
+    for name, ax, values, mean, colour in (("normal", ax_n, normal, mean_normal, "tab:blue"),
+                                           ("shear", ax_t, shear, mean_shear, "tab:red")):
+        x, y = _steps(edges, values)
+        ax.fill_between(x, y, 0, color=colour, alpha=0.25, linewidth=0)
+        lines[name] = ax.plot(x, y, color=colour, linewidth=1.5, label=f"{name} stress per portion")[0]
+        ax.axhline(mean, color="0.3", linestyle="--", linewidth=1,
+                   label=f"mean {'N' if name == 'normal' else 'T'}/(l s) = {mean:.6g} Pa")
+        ax.axhline(0, color="k", linewidth=0.6)
+        ax.set_ylabel(f"{name} stress [Pa]")
+        ax.legend(loc="best", fontsize="small")
+        ax.grid(True, alpha=0.3)
+    ax_t.set_xlabel("position along the interface from its centre G, along t [m]")
+    i, j = res.pairs[k]
+    T, N, M = res.resultant[k]
+    fig.suptitle(f"interface {k} (blocks {i}-{j}): l = {res.length[k]:.4g} m, θ = {np.degrees(res.angle[k]):.4g}°, "
+                 f"m = {res.m}\nT = {T:.4g} N, N = {N:.4g} N, M = {M:.4g} N·m")
+    return StressPlot(fig, {"normal": ax_n, "shear": ax_t}, k, edges, normal, shear, lines,
+                      {"normal": mean_normal, "shear": mean_shear})
