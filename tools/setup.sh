@@ -30,6 +30,7 @@ bw_install_python() {
   python3 -c 'import numpy' 2>/dev/null || need+=(numpy)
   python3 -c 'import h5py' 2>/dev/null || need+=(h5py)
   python3 -c 'import matplotlib' 2>/dev/null || need+=(matplotlib)
+  python3 -c 'import meshio' 2>/dev/null || need+=(meshio)
   if [ ${#need[@]} -gt 0 ]; then
     echo "setup: pip installing ${need[*]}"
     python3 -m pip install -q "${need[@]}" 2>/dev/null ||

@@ -20,6 +20,7 @@ static PetscErrorCode BwGeometryRegisterAll(void)
   PetscFunctionBeginUser;
   if (BwGeometryList) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(BwGeometryRegister("two_blocks", BwGeneratorTwoBlocks));
+  PetscCall(BwGeometryRegister("file", BwGeneratorFile));
   PetscCall(BwGeometryRegister("running_bond", BwGeneratorRunningBond));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -61,4 +61,5 @@ PetscErrorCode BwGeometryFindSet(BwGeometry geom, const char name[], PetscInt *s
 PetscErrorCode BwGeometryGetSetNames(BwGeometry geom, char buf[], size_t len);
 
 PetscErrorCode BwGeneratorTwoBlocks(BwGeometry geom, BwScene scene, PetscReal thickness);
+PetscErrorCode BwGeneratorFile(BwGeometry geom, BwScene scene, PetscReal thickness);
 PetscErrorCode BwGeneratorRunningBond(BwGeometry geom, BwScene scene, PetscReal thickness);

@@ -102,10 +102,12 @@ static PetscErrorCode BwSolverNearNullSpace(BwMixed mx)
         u[1] = geom->centroid[2 * b] - x0[0];
         u[2] = 1;
       }
+      const PetscReal *sc;
+      PetscCall(BwMixedQScale(mx, b, &sc));
       for (PetscInt c = 0; c < 3; c++) {
         PetscInt row = mx->sdof[3 * b + c];
         /* q~ = diag(S)^{1/2} q */
-        if (row >= 0) PetscCall(VecSetValue(v[r], row, u[c] / mx->qscale[3 * b + c], INSERT_VALUES));
+        if (row >= 0) PetscCall(VecSetValue(v[r], row, u[c] / sc[c], INSERT_VALUES));
       }
     }
     PetscCall(VecAssemblyBegin(v[r]));
@@ -134,10 +136,20 @@ static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx)
   PetscFunctionBeginUser;
   PetscCall(KSPCreate(s->comm, &s->fieldsplit));
   PetscCall(KSPSetOperators(s->fieldsplit, mx->K, mx->K));
-  /* FGMRES: right preconditioned, so its residual is the true one, and it
-   * tolerates an inexact (CG+GAMG) Schur solve. */
-  PetscCall(KSPSetType(s->fieldsplit, KSPFGMRES));
-  PetscCall(KSPSetTolerances(s->fieldsplit, s->rtol, 0.0, PETSC_DEFAULT, 200));
+  /* With the Schur complement factored, the preconditioner is the exact
+   * inverse up to round-off: Richardson on the unpreconditioned (true)
+   * residual converges in one step and keeps two work vectors, where FGMRES
+   * would keep two per iteration. An inexact (CG+GAMG) Schur solve needs a
+   * flexible Krylov method: FGMRES, right preconditioned, so its residual is
+   * the true one as well. */
+  if (s->schur_gamg) {
+    PetscCall(KSPSetType(s->fieldsplit, KSPFGMRES));
+    PetscCall(KSPSetTolerances(s->fieldsplit, s->rtol, 0.0, PETSC_DEFAULT, 200));
+  } else {
+    PetscCall(KSPSetType(s->fieldsplit, KSPRICHARDSON));
+    PetscCall(KSPSetNormType(s->fieldsplit, KSP_NORM_UNPRECONDITIONED));
+    PetscCall(KSPSetTolerances(s->fieldsplit, s->rtol, 0.0, PETSC_DEFAULT, 10));
+  }
   PetscCall(KSPGetPC(s->fieldsplit, &pc));
   /* The type first: PCFieldSplitSetIS does nothing on another PC type. */
   PetscCall(PCSetType(pc, PCFIELDSPLIT));
@@ -153,12 +165,16 @@ static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx)
 
 static PetscErrorCode BwSolverSetUpDirect(BwSolver s, BwMixed mx)
 {
-  PC pc;
+  PC  pc;
+  Mat aij;
 
   PetscFunctionBeginUser;
   PetscCall(KSPCreate(s->comm, &s->direct));
   PetscCall(KSPSetOptionsPrefix(s->direct, "direct_"));
-  PetscCall(KSPSetOperators(s->direct, mx->K, mx->K));
+  /* MUMPS factors an assembled matrix: the nested operator is converted */
+  PetscCall(BwMixedGetAIJ(mx, &aij));
+  PetscCall(KSPSetOperators(s->direct, aij, aij));
+  PetscCall(MatDestroy(&aij));
   /* Richardson on the unpreconditioned residual around the LU factors is
    * iterative refinement on the full system: one step when the factors are
    * accurate, a few more when pivoting was delayed. */

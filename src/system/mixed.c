@@ -50,7 +50,7 @@ static PetscErrorCode BwMixedInterfaceStiffness(BwMixed mx, PetscInt k, PetscRea
 static inline PetscInt BwSide(BwMixed mx, PetscInt k, PetscInt b) { return mx->geom->pair[2 * k] == b ? 0 : 3; }
 
 /* 1/sqrt(diag S) for the three dofs of block b, cached. */
-static PetscErrorCode BwMixedQScale(BwMixed mx, PetscInt b, const PetscReal **scale)
+PetscErrorCode BwMixedQScale(BwMixed mx, PetscInt b, const PetscReal **scale)
 {
   PetscFunctionBeginUser;
   if (mx->qscale[3 * b] < 0) {
@@ -74,7 +74,7 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
   BwGeometry  geom = model->geom;
   PetscInt    nb = geom->nblocks, ni = geom->ninterfaces, m2;
   PetscMPIInt size, rank;
-  PetscInt   *nr, *nq, *rnext, *qnext, *snext;
+  PetscInt   *nr, *nq, *rnext, *qnext, *snext, *srnext;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&mx));
@@ -105,6 +105,14 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     PetscCall(PetscFree(fill));
   }
   *mixed = mx; /* from here on, BwMixedDestroy cleans up after an error */
+  {
+    static const char *const storages[] = {"nest", "aij", "BwStorage", "BW_STORAGE_", NULL};
+    PetscInt                 storage    = 0;
+    PetscOptionsBegin(mx->comm, NULL, "Mixed system", NULL);
+    PetscCall(PetscOptionsEList("-solver_storage", "Storage of the saddle-point operator: nest (-I, D^, virtual D^T) or aij (one assembled matrix)", NULL, storages, 2, storages[storage], &storage, NULL));
+    PetscOptionsEnd();
+    mx->storage_aij = storage == 1 ? PETSC_TRUE : PETSC_FALSE;
+  }
   PetscCall(BwMixedCheckRestraint(mx));
 
   /* owners */
@@ -125,7 +133,7 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
   }
 
   /* numbering: rank p's rows are [its stresses | its free dofs] */
-  PetscCall(PetscCalloc5(size + 1, &nr, size + 1, &nq, size, &rnext, size, &qnext, size, &snext));
+  PetscCall(PetscCalloc6(size + 1, &nr, size + 1, &nq, size, &rnext, size, &qnext, size, &snext, size, &srnext));
   for (PetscInt k = 0; k < ni; k++) nr[mx->interface_owner[k]] += m2;
   for (PetscInt b = 0; b < nb; b++)
     for (PetscInt c = 0; c < 3; c++)
@@ -135,7 +143,8 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     for (PetscMPIInt p = 0; p < size; p++) {
       rnext[p] = start;
       qnext[p] = start + nr[p];
-      snext[p] = mx->nq_global;
+      snext[p]  = mx->nq_global;
+      srnext[p] = mx->nr_global;
       if (p == rank) {
         mx->rstart = start;
         mx->qstart = mx->nq_global;
@@ -148,11 +157,13 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
   mx->nr_local = nr[rank];
   mx->nq_local = nq[rank];
   mx->nlocal   = nr[rank] + nq[rank];
-  PetscCall(PetscMalloc3(3 * nb, &mx->dof, 3 * nb, &mx->sdof, ni, &mx->stress));
+  PetscCall(PetscMalloc4(3 * nb, &mx->dof, 3 * nb, &mx->sdof, ni, &mx->stress, ni, &mx->srow));
   for (PetscInt k = 0; k < ni; k++) {
     PetscMPIInt p = mx->interface_owner[k];
     mx->stress[k] = rnext[p];
+    mx->srow[k]   = srnext[p];
     rnext[p] += m2;
+    srnext[p] += m2;
     if (p == rank) mx->nown_interfaces++;
   }
   for (PetscInt b = 0; b < nb; b++) {
@@ -163,7 +174,7 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     }
     if (p == rank) mx->nown_blocks++;
   }
-  PetscCall(PetscFree5(nr, nq, rnext, qnext, snext));
+  PetscCall(PetscFree6(nr, nq, rnext, qnext, snext, srnext));
   PetscCall(PetscMalloc2(mx->nown_blocks, &mx->own_blocks, mx->nown_interfaces, &mx->own_interfaces));
   {
     PetscInt n = 0;
@@ -187,10 +198,11 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed)
   PetscCall(PetscFree(mx->adj_offsets));
   PetscCall(PetscFree(mx->adj));
   PetscCall(PetscFree2(mx->block_owner, mx->interface_owner));
-  PetscCall(PetscFree3(mx->dof, mx->sdof, mx->stress));
+  PetscCall(PetscFree4(mx->dof, mx->sdof, mx->stress, mx->srow));
   PetscCall(PetscFree2(mx->own_blocks, mx->own_interfaces));
   PetscCall(PetscFree(mx->qscale));
   PetscCall(MatDestroy(&mx->K));
+  PetscCall(MatDestroy(&mx->D));
   PetscCall(MatDestroy(&mx->S));
   PetscCall(VecDestroy(&mx->x));
   PetscCall(VecDestroy(&mx->b));
@@ -200,38 +212,33 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static inline PetscBool BwOwnsRow(BwMixed mx, PetscInt row) { return row >= mx->rstart && row < mx->rstart + mx->nlocal; }
-
-/* Exact preallocation of K and S from the layout. */
-static PetscErrorCode BwMixedPreallocate(BwMixed mx)
+/* Preallocation of D^ (stress rows x dof columns, at most 6 per row) and of
+ * S^ (dof rows; columns: the free dofs of the block and its neighbours). */
+static PetscErrorCode BwMixedPreallocate(BwMixed mx, Mat D, Mat S)
 {
-  BwGeometry  geom = mx->geom;
-  PetscInt    m2 = 2 * mx->m, *kd, *ko, *sd, *so, nbr[512];
-  PetscMPIInt rank;
+  BwGeometry geom = mx->geom;
+  PetscInt   m2 = 2 * mx->m, *dd, *od, *sd, *so, nbr[512];
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(mx->comm, &rank));
-  PetscCall(PetscCalloc4(mx->nlocal, &kd, mx->nlocal, &ko, mx->nq_local, &sd, mx->nq_local, &so));
+  PetscCall(PetscCalloc4(mx->nr_local, &dd, mx->nr_local, &od, mx->nq_local, &sd, mx->nq_local, &so));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt k = mx->own_interfaces[e], row = mx->stress[k] - mx->rstart, dn = 1, on = 0;
+    PetscInt k = mx->own_interfaces[e], row = mx->stress[k] - mx->rstart, dn = 0, on = 0;
     for (PetscInt c = 0; c < 6; c++) {
-      PetscInt blk = geom->pair[2 * k + c / 3], col = mx->dof[3 * blk + c % 3];
+      PetscInt col = mx->sdof[3 * geom->pair[2 * k + c / 3] + c % 3];
       if (col < 0) continue;
-      if (BwOwnsRow(mx, col)) dn++;
+      if (col >= mx->qstart && col < mx->qstart + mx->nq_local) dn++;
       else on++;
     }
     for (PetscInt p = 0; p < m2; p++) {
-      kd[row + p] = dn;
-      ko[row + p] = on;
+      dd[row + p] = dn;
+      od[row + p] = on;
     }
   }
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-    PetscInt b = mx->own_blocks[e], dn = 0, on = 0, nn = 0, sdn = 0, son = 0;
+    PetscInt b = mx->own_blocks[e], nn = 0, sdn = 0, son = 0;
     nbr[nn++] = b;
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
       PetscInt k = mx->adj[a];
-      if (mx->interface_owner[k] == rank) dn += m2;
-      else on += m2;
       PetscCheck(nn < 512, PETSC_COMM_SELF, PETSC_ERR_SUP, "block %" PetscInt_FMT " has more than 511 interfaces", b);
       nbr[nn++] = geom->pair[2 * k] == b ? geom->pair[2 * k + 1] : geom->pair[2 * k];
     }
@@ -244,116 +251,145 @@ static PetscErrorCode BwMixedPreallocate(BwMixed mx)
         else son++;
       }
     for (PetscInt c = 0; c < 3; c++) {
-      PetscInt row = mx->dof[3 * b + c];
+      PetscInt row = mx->sdof[3 * b + c];
       if (row < 0) continue;
-      row -= mx->rstart;
-      kd[row] = dn;
-      ko[row] = on;
-      sd[row - mx->nr_local] = sdn;
-      so[row - mx->nr_local] = son;
+      sd[row - mx->qstart] = sdn;
+      so[row - mx->qstart] = son;
     }
   }
-  PetscCall(MatCreate(mx->comm, &mx->K));
-  PetscCall(MatSetSizes(mx->K, mx->nlocal, mx->nlocal, PETSC_DETERMINE, PETSC_DETERMINE));
-  PetscCall(MatSetType(mx->K, MATAIJ));
-  PetscCall(MatSetOptionsPrefix(mx->K, "saddle_"));
-  PetscCall(MatSetFromOptions(mx->K));
-  PetscCall(MatXAIJSetPreallocation(mx->K, 1, kd, ko, NULL, NULL));
-  PetscCall(MatSetOption(mx->K, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  PetscCall(MatSetOption(mx->K, MAT_SYMMETRIC, PETSC_TRUE));
-  PetscCall(MatSetOption(mx->K, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
-  PetscCall(MatCreate(mx->comm, &mx->S));
-  PetscCall(MatSetSizes(mx->S, mx->nq_local, mx->nq_local, PETSC_DETERMINE, PETSC_DETERMINE));
-  PetscCall(MatSetType(mx->S, MATAIJ));
-  PetscCall(MatSetOptionsPrefix(mx->S, "schur_"));
-  PetscCall(MatSetFromOptions(mx->S));
-  PetscCall(MatXAIJSetPreallocation(mx->S, 1, sd, so, NULL, NULL));
-  PetscCall(MatSetOption(mx->S, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
-  PetscCall(MatSetOption(mx->S, MAT_SPD_ETERNAL, PETSC_TRUE));
-  PetscCall(PetscFree4(kd, ko, sd, so));
+  PetscCall(MatXAIJSetPreallocation(D, 1, dd, od, NULL, NULL));
+  PetscCall(MatXAIJSetPreallocation(S, 1, sd, so, NULL, NULL));
+  PetscCall(PetscFree4(dd, od, sd, so));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscErrorCode BwMixedCreateAIJ(BwMixed mx, PetscInt m, PetscInt n, PetscInt M, PetscInt N, const char prefix[], Mat *A)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MatCreate(mx->comm, A));
+  PetscCall(MatSetSizes(*A, m, n, M, N));
+  PetscCall(MatSetType(*A, MATAIJ));
+  PetscCall(MatSetOptionsPrefix(*A, prefix));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The saddle-point operator is stored as a MatNest of its four blocks:
+ *   -I   a constant diagonal                          (no storage)
+ *   D^   AIJ, at most 6 non-zeros per stress row      (~12 bytes per non-zero)
+ *   D^T  the virtual transpose of D^                  (no storage)
+ *   0    an empty AIJ                                 (row pointers only)
+ * so the mixed operator costs little more than D^ itself; an assembled AIJ
+ * of the whole saddle matrix (mixed.storage aij, and the direct path, which
+ * needs it for MUMPS) stores D^ twice plus the diagonal. */
 PetscErrorCode BwMixedAssemble(BwMixed mx)
 {
   BwGeometry geom = mx->geom;
   BwModel    model = mx->model;
-  PetscInt   m2 = 2 * mx->m, *cols, *idx;
-  PetscReal *d, *g, *vals, s[36];
+  PetscInt   m2 = 2 * mx->m, *srow, scol[6];
+  PetscReal *d, *g, *vals, s[36], sv[36];
+  Mat        A00, A11, Dt, blocks[4];
+  IS         is[2];
 
   PetscFunctionBeginUser;
-  PetscCall(BwMixedPreallocate(mx));
-  PetscCall(MatCreateVecs(mx->K, &mx->x, &mx->b));
-  PetscCall(PetscMalloc4(6 * m2, &d, m2, &g, m2 + 8, &cols, m2 + 8, &vals));
+  PetscCall(BwMixedCreateAIJ(mx, mx->nr_local, mx->nq_local, mx->nr_global, mx->nq_global, "mixed_D_", &mx->D));
+  PetscCall(BwMixedCreateAIJ(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "schur_", &mx->S));
+  PetscCall(BwMixedPreallocate(mx, mx->D, mx->S));
+  PetscCall(MatSetOption(mx->D, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
+  PetscCall(MatSetOption(mx->S, MAT_SPD_ETERNAL, PETSC_TRUE));
+  PetscCall(VecCreateMPI(mx->comm, mx->nlocal, PETSC_DETERMINE, &mx->b));
+  PetscCall(VecDuplicate(mx->b, &mx->x));
+  PetscCall(PetscMalloc4(6 * m2, &d, m2, &g, 6 * m2, &vals, m2, &srow));
 
-  /* stress rows of owned interfaces: [ D^  -I ], rhs -G^{-1/2} D_p u_p */
+  /* per owned interface, one kernel call each: the 2m x nf block of D^, the
+   * lifted right-hand side, and the nf x nf block of S^ (added, possibly to
+   * another rank's rows) */
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt         k = mx->own_interfaces[e];
+    PetscInt         k = mx->own_interfaces[e], nf = 0, pos[6];
     const PetscReal *sc[2];
+    PetscReal        w;
 
     PetscCall(BwMixedInterfaceOperator(mx, k, d, g));
+    PetscCall(BwMixedInterfaceStiffness(mx, k, s));
     PetscCall(BwMixedQScale(mx, geom->pair[2 * k], &sc[0]));
     PetscCall(BwMixedQScale(mx, geom->pair[2 * k + 1], &sc[1]));
+    for (PetscInt c = 0; c < 6; c++) {
+      PetscInt blk = geom->pair[2 * k + c / 3];
+      if (mx->sdof[3 * blk + c % 3] < 0) continue;
+      pos[nf]    = c;
+      scol[nf++] = mx->sdof[3 * blk + c % 3];
+    }
     for (PetscInt p = 0; p < m2; p++) {
-      PetscInt  row = mx->stress[k] + p, n = 0;
-      PetscReal w = 1 / PetscSqrtReal(g[p]), rhs = 0;
-      cols[n]   = row;
-      vals[n++] = -1;
+      PetscReal rhs = 0;
+      srow[p] = mx->srow[k] + p;
+      w       = 1 / PetscSqrtReal(g[p]);
+      for (PetscInt f = 0; f < nf; f++) vals[p * nf + f] = w * d[6 * p + pos[f]] * sc[pos[f] / 3][pos[f] % 3];
       for (PetscInt c = 0; c < 6; c++) {
-        PetscInt blk = geom->pair[2 * k + c / 3], col = mx->dof[3 * blk + c % 3];
-        if (col >= 0) {
-          cols[n]   = col;
-          vals[n++] = w * d[6 * p + c] * sc[c / 3][c % 3];
-        } else rhs -= w * d[6 * p + c] * model->value[3 * blk + c % 3];
+        PetscInt blk = geom->pair[2 * k + c / 3];
+        if (mx->sdof[3 * blk + c % 3] < 0) rhs -= w * d[6 * p + c] * model->value[3 * blk + c % 3];
       }
-      PetscCall(MatSetValues(mx->K, 1, &row, n, cols, vals, INSERT_VALUES));
-      PetscCall(VecSetValue(mx->b, row, rhs, INSERT_VALUES));
+      PetscCall(VecSetValue(mx->b, mx->stress[k] + p, rhs, INSERT_VALUES));
+    }
+    if (nf) {
+      PetscCall(MatSetValues(mx->D, m2, srow, nf, scol, vals, INSERT_VALUES));
+      for (PetscInt a = 0; a < nf; a++)
+        for (PetscInt f = 0; f < nf; f++) sv[a * nf + f] = s[6 * pos[a] + pos[f]] * sc[pos[a] / 3][pos[a] % 3] * sc[pos[f] / 3][pos[f] % 3];
+      PetscCall(MatSetValues(mx->S, nf, scol, nf, scol, sv, ADD_VALUES));
     }
   }
-  /* dof rows of owned blocks: [ D^T 0 ] in K, S^ = sum_k scaled S_k, rhs F^ */
+  /* loads on owned free dofs */
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt         b = mx->own_blocks[e];
     const PetscReal *sb;
-
     PetscCall(BwMixedQScale(mx, b, &sb));
     for (PetscInt c = 0; c < 3; c++)
       if (mx->dof[3 * b + c] >= 0) PetscCall(VecSetValue(mx->b, mx->dof[3 * b + c], sb[c] * model->load[3 * b + c], INSERT_VALUES));
-    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
-      PetscInt         k = mx->adj[a], side = BwSide(mx, k, b);
-      const PetscReal *sc[2];
-
-      PetscCall(BwMixedInterfaceOperator(mx, k, d, g));
-      PetscCall(BwMixedInterfaceStiffness(mx, k, s));
-      PetscCall(BwMixedQScale(mx, geom->pair[2 * k], &sc[0]));
-      PetscCall(BwMixedQScale(mx, geom->pair[2 * k + 1], &sc[1]));
-      for (PetscInt p = 0; p < m2; p++) cols[p] = mx->stress[k] + p;
-      for (PetscInt c = 0; c < 3; c++) {
-        PetscInt row = mx->dof[3 * b + c], n = 0;
-        if (row < 0) continue;
-        for (PetscInt p = 0; p < m2; p++) vals[p] = d[6 * p + side + c] / PetscSqrtReal(g[p]) * sb[c];
-        PetscCall(MatSetValues(mx->K, 1, &row, m2, cols, vals, INSERT_VALUES));
-        row = mx->sdof[3 * b + c];
-        for (PetscInt c2 = 0; c2 < 6; c2++) {
-          PetscInt blk = geom->pair[2 * k + c2 / 3], col = mx->sdof[3 * blk + c2 % 3];
-          if (col < 0) continue;
-          cols[m2 + n] = col; /* cols[0..m2) still holds the stress rows */
-          vals[n++]    = s[6 * (side + c) + c2] * sb[c] * sc[c2 / 3][c2 % 3];
-        }
-        idx = cols + m2;
-        PetscCall(MatSetValues(mx->S, 1, &row, n, idx, vals, ADD_VALUES));
-      }
-    }
   }
-  PetscCall(PetscFree4(d, g, cols, vals));
-  PetscCall(MatAssemblyBegin(mx->K, MAT_FINAL_ASSEMBLY));
+  PetscCall(PetscFree4(d, g, vals, srow));
+  PetscCall(MatAssemblyBegin(mx->D, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyBegin(mx->S, MAT_FINAL_ASSEMBLY));
   PetscCall(VecAssemblyBegin(mx->b));
-  PetscCall(MatAssemblyEnd(mx->K, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(mx->D, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(mx->S, MAT_FINAL_ASSEMBLY));
   PetscCall(VecAssemblyEnd(mx->b));
 
   PetscCall(ISCreateStride(mx->comm, mx->nr_local, mx->rstart, 1, &mx->isr));
   PetscCall(ISCreateStride(mx->comm, mx->nq_local, mx->rstart + mx->nr_local, 1, &mx->isq));
+  PetscCall(MatCreateConstantDiagonal(mx->comm, mx->nr_local, mx->nr_local, mx->nr_global, mx->nr_global, -1.0, &A00));
+  PetscCall(MatCreateTranspose(mx->D, &Dt));
+  PetscCall(BwMixedCreateAIJ(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "mixed_zero_", &A11));
+  PetscCall(MatXAIJSetPreallocation(A11, 1, NULL, NULL, NULL, NULL));
+  PetscCall(MatAssemblyBegin(A11, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(A11, MAT_FINAL_ASSEMBLY));
+  blocks[0] = A00;
+  blocks[1] = mx->D;
+  blocks[2] = Dt;
+  blocks[3] = A11;
+  is[0]     = mx->isr;
+  is[1]     = mx->isq;
+  PetscCall(MatCreateNest(mx->comm, 2, is, 2, is, blocks, &mx->K));
+  PetscCall(MatDestroy(&A00));
+  PetscCall(MatDestroy(&Dt));
+  PetscCall(MatDestroy(&A11));
+  if (mx->storage_aij) {
+    Mat aij;
+    PetscCall(BwMixedGetAIJ(mx, &aij));
+    PetscCall(MatDestroy(&mx->K));
+    mx->K = aij;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedGetAIJ(BwMixed mx, Mat *aij)
+{
+  PetscBool isaij;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)mx->K, MATMPIAIJ, &isaij));
+  if (!isaij) PetscCall(PetscObjectTypeCompare((PetscObject)mx->K, MATSEQAIJ, &isaij));
+  if (isaij) {
+    PetscCall(PetscObjectReference((PetscObject)mx->K));
+    *aij = mx->K;
+  } else PetscCall(MatConvert(mx->K, MATAIJ, MAT_INITIAL_MATRIX, aij));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

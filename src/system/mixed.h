@@ -29,15 +29,17 @@ struct _n_BwMixed {
    * of each free dof (-1 where prescribed) and of each interface's first stress */
   PetscMPIInt *block_owner, *interface_owner;
   PetscInt    *dof, *stress;
-  PetscInt    *sdof; /* row of each free dof in S^ (q rows only, same order) */
+  PetscInt    *sdof; /* row of each free dof in S^ and column of D^ (q rows only, same order) */
+  PetscInt    *srow; /* row of each interface's first stress in D^ (r rows only) */
   PetscInt     nown_blocks, *own_blocks, nown_interfaces, *own_interfaces;
   PetscInt     rstart, qstart, nlocal, nr_local, nq_local, nr_global, nq_global;
   /* block -> interfaces (CSR, replicated) */
   PetscInt *adj_offsets, *adj;
   /* 1/sqrt(diag S) per block dof, computed on demand (< 0: not yet) */
   PetscReal *qscale;
-  /* the system */
-  Mat K, S;
+  /* the system: K = MatNest [-I, D^; D^T, 0] (or AIJ with mixed.storage aij) */
+  PetscBool storage_aij;
+  Mat K, D, S;
   Vec x, b;
   IS  isr, isq;
 };
@@ -48,6 +50,10 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt block_owner[], BwM
 /* Owner rank of every block: METIS k-way on more than one rank, NULL on one. */
 PetscErrorCode BwPartitionBlocks(BwModel model, PetscMPIInt **owner);
 PetscErrorCode BwMixedAssemble(BwMixed mixed);
+/* 1/sqrt(diag S) of block b's three dofs (computed on first use, cached). */
+PetscErrorCode BwMixedQScale(BwMixed mixed, PetscInt b, const PetscReal **scale);
+/* K as one AIJ matrix (a new reference if it already is one), for MUMPS. */
+PetscErrorCode BwMixedGetAIJ(BwMixed mixed, Mat *aij);
 /* Error naming the blocks that can move freely (called by BwMixedCreate). */
 PetscErrorCode BwMixedCheckRestraint(BwMixed mixed);
 PetscErrorCode BwMixedDestroy(BwMixed *mixed);

@@ -79,11 +79,12 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
     for (PetscInt p = 0; p < m2; p++) gh->r[m2 * e + p] = PetscRealPart(a[n++]) / PetscSqrtReal(g[p]);
   }
   for (PetscInt e = 0; e < gh->nblk; e++) {
-    PetscInt b = gh->blks[e];
+    PetscInt         b = gh->blks[e];
+    const PetscReal *sc;
+    PetscCall(BwMixedQScale(mx, b, &sc));
     for (PetscInt c = 0; c < 3; c++) {
       if (mx->dof[3 * b + c] >= 0) {
-        PetscCheck(mx->qscale[3 * b + c] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "scale of block %" PetscInt_FMT " not computed", b);
-        gh->q[3 * e + c] = PetscRealPart(a[n++]) * mx->qscale[3 * b + c];
+        gh->q[3 * e + c] = PetscRealPart(a[n++]) * sc[c];
       } else gh->q[3 * e + c] = mx->model->value[3 * b + c];
     }
   }

@@ -1,18 +1,76 @@
-/* Restraint: find the blocks that can move without deforming any joint
- * before a solver meets a singular matrix, and name them. */
+/* Restraint: the ways an assembly can move without deforming any joint,
+ * found before a solver meets a singular matrix, reported with the blocks
+ * and the free motion. (Replicated data: every rank finds the same and all
+ * raise the same error.)
+ *
+ * 1. Rigid motions of each connected group (blocks joined by interfaces).
+ *    A rigid motion about the group's mean centroid (x0, y0) moves block b by
+ *      (a1 - w (c_b2 - y0),  a2 + w (c_b1 - x0),  w)
+ *    and a prescribed dof of block b forbids the motions that move that dof,
+ *    so, exactly:
+ *      translation along x free  <=>  no u1 prescribed in the group
+ *      translation along y free  <=>  no u2 prescribed
+ *      a rotation free           <=>  no w prescribed, all u1-prescribed
+ *                                     centroids at one y, all u2-prescribed
+ *                                     ones at one x; its centre is
+ *                                     (that x or x0, that y or y0).
+ *    With m >= 2 every interface has the full stiffness
+ *    diag(kt A, kn A, kn I (1 - 1/m^2)), any relative motion of two joined
+ *    blocks strains it, and this test is exact.
+ * 2. m = 1: an interface has no bending stiffness, it is a hinge at G.
+ *    a) a block all of whose interfaces have one centre G turns about G
+ *       unless its own prescribed dofs stop that rotation (w, or u1 with its
+ *       centroid off G's horizontal line, or u2 off G's vertical line);
+ *    b) a group with more free dofs than the 2 constraints per hinge of its
+ *       interfaces (those touching a free dof) is a mechanism (more unknowns
+ *       than equations in the kinematics).
+ *    Both are sufficient, not necessary: hinges can also leave a motion free
+ *    where other parts of the group are over-constrained. That, and any
+ *    other singularity, is what BwMixedCheckMechanism finds numerically when
+ *    a solver reports one.
+ * 3. BwMixedCheckMechanism: inverse iteration on the scaled Schur complement
+ *    S^ (unit diagonal), shifted by 1e-10 ||S^|| so that it can be factored:
+ *    four steps from a fixed start vector bring out the eigenvector of the
+ *    smallest eigenvalue (a mechanism's 0 against a few 1e-3 or more); a
+ *    Rayleigh quotient below 1e-11 ||S^|| means S^ is singular to working
+ *    precision, and that eigenvector is the free motion, reported block by
+ *    block as a rotation about a point or a translation. */
+#include <petscksp.h>
 #include "system/mixed.h"
 #include "util/compat.h"
 
-/* Blocks with a free dof but no interface at all, and connected groups of
- * blocks none of which has a prescribed dof, can move freely: report them by
- * name before any solver sees a singular matrix. (Replicated data: every
- * rank finds the same and errors together.) */
+/* "3, 4, 9, ..." for the blocks b >= first with comp[b] == c. */
+static PetscErrorCode BwBlockList(PetscInt nb, const PetscInt comp[], PetscInt c, PetscInt first, char list[], size_t len, PetscInt *count)
+{
+  PetscFunctionBeginUser;
+  list[0] = 0;
+  *count  = 0;
+  for (PetscInt o = first; o < nb; o++) {
+    if (comp[o] != c) continue;
+    if (*count < 12) {
+      char item[32];
+      PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, *count ? ", " : "", o));
+      PetscCall(PetscStrlcat(list, item, len));
+    } else if (*count == 12) PetscCall(PetscStrlcat(list, ", ...", len));
+    (*count)++;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  PetscInt  first, nblocks, nfree, nrows, n[3];
+  PetscReal x0, y0, area, xmin, xmax, ymin, ymax; /* centroid mean and box */
+  PetscReal y1[2], x2[2];                         /* range of u1-prescribed y, u2-prescribed x */
+} BwGroup;
+
 PetscErrorCode BwMixedCheckRestraint(BwMixed mx)
 {
   BwGeometry geom = mx->geom;
+  BwModel    model = mx->model;
   PetscInt   nb = geom->nblocks, *comp, *stack, ncomp = 0;
-  PetscBool *held;
-  char       list[512];
+  BwGroup   *grp;
+  char       list[512], motion[512];
+  PetscErrorCode ierr = PETSC_SUCCESS;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc2(nb, &comp, nb, &stack));
@@ -34,30 +92,225 @@ PetscErrorCode BwMixedCheckRestraint(BwMixed mx)
     }
     ncomp++;
   }
-  PetscCall(PetscCalloc1(ncomp, &held));
-  for (PetscInt b = 0; b < nb; b++)
-    for (PetscInt c = 0; c < 3; c++)
-      if (mx->model->prescribed[3 * b + c]) held[comp[b]] = PETSC_TRUE;
-  for (PetscInt b = 0; b < nb; b++) {
-    PetscInt c = comp[b], count = 0, len;
-    if (held[c]) continue;
-    list[0] = 0;
-    for (PetscInt o = b; o < nb; o++) {
-      if (comp[o] != c) continue;
-      if (count < 12) {
-        char item[32];
-        PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, count ? ", " : "", o));
-        PetscCall(PetscStrlcat(list, item, sizeof(list)));
-      } else if (count == 12) PetscCall(PetscStrlcat(list, ", ...", sizeof(list)));
-      count++;
-    }
-    PetscCall(PetscStrlen(list, (size_t *)&len));
-    PetscCall(PetscFree(held));
-    PetscCall(PetscFree2(comp, stack));
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s no path of interfaces to a support; free motion: rigid translation and rotation", count > 1 ? "s" : "", list, count, count > 1 ? "s" : "", count > 1 ? "have" : "has");
+  PetscCall(PetscCalloc1(ncomp, &grp));
+  for (PetscInt c = 0; c < ncomp; c++) {
+    grp[c].first = -1;
+    grp[c].xmin = grp[c].ymin = grp[c].y1[0] = grp[c].x2[0] = PETSC_MAX_REAL;
+    grp[c].xmax = grp[c].ymax = grp[c].y1[1] = grp[c].x2[1] = PETSC_MIN_REAL;
   }
-  PetscCall(PetscFree(held));
+  for (PetscInt b = 0; b < nb; b++) {
+    BwGroup        *g  = &grp[comp[b]];
+    const PetscReal cx = geom->centroid[2 * b], cy = geom->centroid[2 * b + 1];
+    if (g->first < 0) g->first = b;
+    g->nblocks++;
+    g->x0 += cx;
+    g->y0 += cy;
+    g->area += geom->area[b];
+    g->xmin = PetscMin(g->xmin, cx);
+    g->xmax = PetscMax(g->xmax, cx);
+    g->ymin = PetscMin(g->ymin, cy);
+    g->ymax = PetscMax(g->ymax, cy);
+    for (PetscInt c = 0; c < 3; c++) {
+      if (!model->prescribed[3 * b + c]) {
+        g->nfree++;
+        continue;
+      }
+      g->n[c]++;
+      if (c == 0) {
+        g->y1[0] = PetscMin(g->y1[0], cy);
+        g->y1[1] = PetscMax(g->y1[1], cy);
+      } else if (c == 1) {
+        g->x2[0] = PetscMin(g->x2[0], cx);
+        g->x2[1] = PetscMax(g->x2[1], cx);
+      }
+    }
+  }
+  for (PetscInt k = 0; k < geom->ninterfaces; k++) {
+    PetscInt  i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
+    PetscBool touches = PETSC_FALSE; /* a free dof: its 2 rows constrain something */
+    for (PetscInt c = 0; c < 3; c++) touches = (PetscBool)(touches || !model->prescribed[3 * i + c] || !model->prescribed[3 * j + c]);
+    if (touches) grp[comp[i]].nrows += 2;
+  }
+
+  /* 1. rigid motions of each group */
+  for (PetscInt c = 0; c < ncomp && !ierr; c++) {
+    BwGroup  *g = &grp[c];
+    PetscReal size = PetscMax(PetscMax(g->xmax - g->xmin, g->ymax - g->ymin), PetscSqrtReal(g->area)), tol = 1e-9 * size;
+    PetscBool tx = (PetscBool)(g->n[0] == 0), ty = (PetscBool)(g->n[1] == 0);
+    PetscBool rot = (PetscBool)(g->n[2] == 0 && (g->n[0] == 0 || g->y1[1] - g->y1[0] <= tol) && (g->n[1] == 0 || g->x2[1] - g->x2[0] <= tol));
+    PetscInt  count;
+
+    if (!tx && !ty && !rot) continue;
+    g->x0 /= g->nblocks;
+    g->y0 /= g->nblocks;
+    PetscCall(BwBlockList(nb, comp, c, g->first, list, sizeof(list), &count));
+    if (tx && ty && rot) {
+      ierr = PETSC_ERR_USER_INPUT;
+      PetscCall(PetscSNPrintf(motion, sizeof(motion), "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s no path of interfaces to a support; free motion: rigid translation and rotation", count > 1 ? "s" : "", list, count, count > 1 ? "s" : "", count > 1 ? "have" : "has"));
+      break;
+    }
+    {
+      char what[256] = "";
+      if (tx) PetscCall(PetscStrlcat(what, "translation along x (u1)", sizeof(what)));
+      if (ty) PetscCall(PetscStrlcat(what, tx ? ", translation along y (u2)" : "translation along y (u2)", sizeof(what)));
+      if (rot) {
+        char r[128];
+        PetscCall(PetscSNPrintf(r, sizeof(r), "%srotation about (%g, %g)", tx || ty ? ", " : "", (double)(g->n[1] ? g->x2[0] : g->x0), (double)(g->n[0] ? g->y1[0] : g->y0)));
+        PetscCall(PetscStrlcat(what, r, sizeof(what)));
+      }
+      ierr = PETSC_ERR_USER_INPUT;
+      PetscCall(PetscSNPrintf(motion, sizeof(motion), "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s held only by prescribed dofs (u1 on %" PetscInt_FMT ", u2 on %" PetscInt_FMT ", w on %" PetscInt_FMT " block%s) that leave a rigid motion free; free motion: %s", count > 1 ? "s" : "", list, count, count > 1 ? "s" : "", count > 1 ? "are" : "is", g->n[0], g->n[1], g->n[2], g->n[2] == 1 ? "" : "s", what));
+    }
+  }
+
+  /* 2. hinges */
+  if (!ierr && mx->m == 1) {
+    for (PetscInt b = 0; b < nb && !ierr; b++) {
+      PetscInt         a0 = mx->adj_offsets[b], a1 = mx->adj_offsets[b + 1];
+      const PetscReal *P, cx = geom->centroid[2 * b], cy = geom->centroid[2 * b + 1];
+      PetscReal        tol = 1e-9 * PetscSqrtReal(geom->area[b]);
+      PetscBool        pin = PETSC_TRUE;
+
+      if (a1 == a0) continue;
+      P = &geom->center[2 * mx->adj[a0]];
+      for (PetscInt a = a0 + 1; a < a1 && pin; a++) {
+        const PetscReal *Q = &geom->center[2 * mx->adj[a]];
+        if (PetscAbsReal(Q[0] - P[0]) > tol || PetscAbsReal(Q[1] - P[1]) > tol) pin = PETSC_FALSE;
+      }
+      if (!pin) continue;
+      if (model->prescribed[3 * b + 2] || (model->prescribed[3 * b] && PetscAbsReal(cy - P[1]) > tol) || (model->prescribed[3 * b + 1] && PetscAbsReal(cx - P[0]) > tol)) continue;
+      {
+        PetscInt k = mx->adj[a0];
+        ierr       = PETSC_ERR_USER_INPUT;
+        PetscCall(PetscSNPrintf(motion, sizeof(motion), "the assembly is a mechanism: block %" PetscInt_FMT " is held only at G = (%g, %g) (interface %" PetscInt_FMT ", blocks %" PetscInt_FMT " and %" PetscInt_FMT "%s), and with discretization.m = 1 an interface carries no moment (a hinge); free motion: rotation of block %" PetscInt_FMT " about (%g, %g); use m >= 2", b, (double)P[0], (double)P[1], k, geom->pair[2 * k], geom->pair[2 * k + 1], a1 - a0 > 1 ? ", and others through the same point" : "", b, (double)P[0], (double)P[1]));
+      }
+    }
+    for (PetscInt c = 0; c < ncomp && !ierr; c++) {
+      BwGroup *g = &grp[c];
+      PetscInt count;
+      if (g->nfree <= g->nrows) continue;
+      PetscCall(BwBlockList(nb, comp, c, g->first, list, sizeof(list), &count));
+      ierr = PETSC_ERR_USER_INPUT;
+      PetscCall(PetscSNPrintf(motion, sizeof(motion), "the assembly is a mechanism: with discretization.m = 1 an interface carries no moment (a hinge at its centre G), and block%s %s (%" PetscInt_FMT " block%s) %s %" PetscInt_FMT " free dofs against %" PetscInt_FMT " hinge constraints (2 per interface); free motion: at least %" PetscInt_FMT " independent rotations about the interfaces' centres; use m >= 2", count > 1 ? "s" : "", list, count, count > 1 ? "s" : "", count > 1 ? "have" : "has", g->nfree, g->nrows, g->nfree - g->nrows));
+    }
+  }
+  PetscCall(PetscFree(grp));
   PetscCall(PetscFree2(comp, stack));
+  PetscCheck(!ierr, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s", motion);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Block b's displacement (u1, u2, w) in words. */
+static PetscErrorCode BwDescribeMotion(BwGeometry geom, PetscInt b, const PetscReal q[3], char buf[], size_t len)
+{
+  PetscReal r = PetscSqrtReal(geom->area[b]), mag = PetscSqrtReal(q[0] * q[0] + q[1] * q[1] + PetscSqr(q[2] * r));
+
+  PetscFunctionBeginUser;
+  if (PetscAbsReal(q[2]) * r > 1e-6 * mag)
+    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " rotates about (%.6g, %.6g)", b, (double)(geom->centroid[2 * b] - q[1] / q[2]), (double)(geom->centroid[2 * b + 1] + q[0] / q[2])));
+  else {
+    PetscReal l = PetscSqrtReal(q[0] * q[0] + q[1] * q[1]);
+    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " translates along (%.3g, %.3g)", b, (double)(q[0] / l), (double)(q[1] / l)));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* For the solver, when a factorisation finds null pivots or a solve breaks
+ * down: an error naming the blocks and the free motion if S^ is singular
+ * to working precision, else nothing (the caller reports its own failure).
+ * Collective. `how` says what found it ("MUMPS: 2 null pivots"). */
+PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
+{
+  BwGeometry         geom = mx->geom;
+  Mat                A;
+  KSP                ksp;
+  PC                 pc;
+  Vec                x, y, all;
+  VecScatter         sct;
+  PetscReal          snorm, rho, *q, mmax = 0;
+  PetscScalar        dot;
+  KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
+  PetscInt           lo, hi, nb = geom->nblocks, nmove = 0, *moving;
+  const PetscScalar *a;
+  PetscScalar       *xa;
+  char               list[512] = "", motion[1024] = "";
+
+  PetscFunctionBeginUser;
+  PetscCheck(mx->S, mx->comm, PETSC_ERR_ARG_WRONGSTATE, "BwMixedCheckMechanism needs the assembled system");
+  PetscCall(MatDuplicate(mx->S, MAT_COPY_VALUES, &A));
+  PetscCall(MatNorm(A, NORM_INFINITY, &snorm));
+  PetscCall(MatShift(A, 1e-10 * snorm));
+  PetscCall(MatSetOption(A, MAT_SPD, PETSC_TRUE));
+  PetscCall(KSPCreate(mx->comm, &ksp));
+  PetscCall(KSPSetOptionsPrefix(ksp, "mechanism_"));
+  PetscCall(KSPSetOperators(ksp, A, A));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCCHOLESKY));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(MatCreateVecs(A, &x, &y));
+  /* a start vector that depends on the global row only: the same on any
+   * number of ranks, and not orthogonal to a mechanism in practice */
+  PetscCall(VecGetOwnershipRange(x, &lo, &hi));
+  PetscCall(VecGetArray(x, &xa));
+  for (PetscInt r = lo; r < hi; r++) xa[r - lo] = 1 + (PetscReal)((r * 7919) % 101) / 101;
+  PetscCall(VecRestoreArray(x, &xa));
+  for (int it = 0; it < 4 && reason >= 0; it++) {
+    PetscCall(KSPSolve(ksp, x, y));
+    PetscCall(KSPGetConvergedReason(ksp, &reason));
+    PetscCall(VecNormalize(y, NULL));
+    PetscCall(VecCopy(y, x));
+  }
+  PetscCall(MatMult(mx->S, x, y));
+  PetscCall(VecDot(x, y, &dot));
+  rho = PetscRealPart(dot);
+  PetscCall(KSPDestroy(&ksp));
+  PetscCall(MatDestroy(&A));
+  /* a failed factorisation of the shifted matrix tells nothing */
+  if (reason < 0 || !(rho >= 0) || rho > 1e-11 * snorm) {
+    PetscCall(VecDestroy(&x));
+    PetscCall(VecDestroy(&y));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+
+  /* the eigenvector in physical dofs, q = diag(S)^{-1/2} q~, on every rank */
+  PetscCall(VecGetArray(x, &xa));
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt b = mx->own_blocks[e];
+    for (PetscInt c = 0; c < 3; c++)
+      if (mx->sdof[3 * b + c] >= 0) xa[mx->sdof[3 * b + c] - lo] *= mx->qscale[3 * b + c];
+  }
+  PetscCall(VecRestoreArray(x, &xa));
+  PetscCall(VecScatterCreateToAll(x, &sct, &all));
+  PetscCall(VecScatterBegin(sct, x, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sct, x, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterDestroy(&sct));
+  PetscCall(PetscMalloc2(3 * nb, &q, nb, &moving));
+  PetscCall(VecGetArrayRead(all, &a));
+  for (PetscInt b = 0; b < nb; b++) {
+    for (PetscInt c = 0; c < 3; c++) q[3 * b + c] = mx->sdof[3 * b + c] >= 0 ? PetscRealPart(a[mx->sdof[3 * b + c]]) : 0;
+    mmax = PetscMax(mmax, PetscSqrtReal(PetscSqr(q[3 * b]) + PetscSqr(q[3 * b + 1]) + PetscSqr(q[3 * b + 2]) * geom->area[b]));
+  }
+  PetscCall(VecRestoreArrayRead(all, &a));
+  for (PetscInt b = 0; b < nb; b++)
+    if (PetscSqrtReal(PetscSqr(q[3 * b]) + PetscSqr(q[3 * b + 1]) + PetscSqr(q[3 * b + 2]) * geom->area[b]) > 1e-3 * mmax) moving[nmove++] = b;
+  for (PetscInt e = 0; e < PetscMin(nmove, 13); e++) {
+    char item[32];
+    PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, e ? ", " : "", moving[e]));
+    PetscCall(PetscStrlcat(list, e < 12 ? item : ", ...", sizeof(list)));
+  }
+  for (PetscInt e = 0; e < PetscMin(nmove, 5); e++) {
+    char item[160];
+    if (e == 4) PetscCall(PetscStrlcat(motion, ", ...", sizeof(motion)));
+    else {
+      PetscCall(BwDescribeMotion(geom, moving[e], &q[3 * moving[e]], item, sizeof(item)));
+      if (e) PetscCall(PetscStrlcat(motion, ", ", sizeof(motion)));
+      PetscCall(PetscStrlcat(motion, item, sizeof(motion)));
+    }
+  }
+  PetscCall(PetscFree2(q, moving));
+  PetscCall(VecDestroy(&all));
+  PetscCall(VecDestroy(&x));
+  PetscCall(VecDestroy(&y));
+  SETERRQ(mx->comm, PETSC_ERR_USER_INPUT, "the assembly is a mechanism (%s): block%s %s (%" PetscInt_FMT " block%s) can move without deforming any joint (smallest eigenvalue %.1e of the scaled stiffness, largest about %.1e); free motion: %s", how, nmove > 1 ? "s" : "", list, nmove, nmove > 1 ? "s" : "", (double)rho, (double)snorm, motion);
+}

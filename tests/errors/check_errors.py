@@ -24,7 +24,7 @@ CASES = {
     "mortar_zero_thickness": ("mortar_zero_thickness.yaml", [], ["mortar_zero_thickness.yaml:4: joints.thickness", "> 0"]),
     "negative_thickness": ("negative_thickness.yaml", [], ["negative_thickness.yaml:4: joints.thickness must be >= 0"]),
     "unknown_set": ("unknown_set.yaml", [], ["unknown_set.yaml:5: loads.roof does not name a block set (sets: bottom, top)"]),
-    "unknown_generator": ("unknown_generator.yaml", [], ["unknown_generator.yaml:2: geometry.generator must be one of two_blocks, running_bond, got 'spiral'"]),
+    "unknown_generator": ("unknown_generator.yaml", [], ["unknown_generator.yaml:2: geometry.generator must be one of ", "two_blocks", "running_bond", "got 'spiral'"]),
     "load_arity": ("load_arity.yaml", [], ["load_arity.yaml:4: loads.top must have 3 values"]),
     "unrestrained": ("unrestrained.yaml", [], ["not restrained", "blocks 0, 1"]),
     "command_line_value": ("ok.yaml", ["-joints_E", "0"], ["command line: -joints_E must be > 0, got 0"]),

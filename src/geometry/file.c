@@ -1,0 +1,538 @@
+/* geometry.generator: file -- blocks, interfaces and sets from an HDF5 file
+ * (interface.md, "HDF5 geometry input"):
+ *
+ *   /blocks/vertices   float (V, 2)   polygons, either orientation
+ *   /blocks/offsets    int   (B+1)    block b: vertex rows offsets[b]..offsets[b+1]-1
+ *   /interfaces/blocks int   (I, 2)   optional pairs (i, j), i < j
+ *   /interfaces/kn, kt float (I)      optional, need /interfaces/blocks
+ *   /sets/NAME         int   (k)      optional block sets
+ *   root attribute depth              optional, overrides geometry.depth
+ *
+ * geometry.file is relative to the scene file's directory when the scene
+ * file gives it, and to the working directory when the command line does
+ * (as any path typed in a shell).
+ *
+ * Interfaces: with /interfaces/blocks, row k is interface k and its G,
+ * theta and l come from the facing edges of its two blocks (detect.c, the
+ * same rule as detection); a pair whose blocks face each other along s
+ * separate segments must be listed s times, its rows taking the segments in
+ * detection order. A pair (i, j) with i > j is an error, not swapped: the
+ * normal n points from i into j, and a silent swap would flip the signs of
+ * that interface's results. Without /interfaces/blocks every facing pair is
+ * found (detect.c). Derived datasets of an output file (/interfaces/center,
+ * angle, length, /blocks/centroid, results) are ignored and recomputed, so
+ * an output file read back gives the same results whether or not they are
+ * there. All interfaces are bed joints (joints.*); kn, kt override them.
+ *
+ * Rank 0 reads, checks and builds the geometry, then broadcasts it; an
+ * error on rank 0 is broadcast as its one-line message and raised on every
+ * rank, so all ranks fail together with the same line. */
+#include <errno.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <hdf5.h>
+#include "geometry/validate.h"
+#include "util/compat.h"
+
+#define BW_MSG_LEN 1024
+
+typedef struct {
+  char       path[PETSC_MAX_PATH_LEN];     /* as opened; named in every message */
+  char       where[PETSC_MAX_PATH_LEN + 64]; /* where geometry.file was set */
+  hid_t      file;
+  PetscInt   nv, nb, ni;
+  PetscReal *xy, *kn, *kt;
+  int64_t   *offsets, *pairs;
+  PetscBool  has_pairs, has_depth;
+  PetscReal  depth;
+  PetscInt   nsets, *setlen;
+  char     **setname;
+  int64_t  **setdata;
+} BwFileData;
+
+static PetscErrorCode BwFileDataDestroy(BwFileData *d)
+{
+  PetscFunctionBeginUser;
+  if (d->file > 0) H5Fclose(d->file);
+  d->file = -1;
+  PetscCall(PetscFree(d->xy));
+  PetscCall(PetscFree(d->kn));
+  PetscCall(PetscFree(d->kt));
+  PetscCall(PetscFree(d->offsets));
+  PetscCall(PetscFree(d->pairs));
+  for (PetscInt s = 0; s < d->nsets; s++) {
+    PetscCall(PetscFree(d->setname[s]));
+    PetscCall(PetscFree(d->setdata[s]));
+  }
+  PetscCall(PetscFree(d->setname));
+  PetscCall(PetscFree(d->setdata));
+  PetscCall(PetscFree(d->setlen));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------ HDF5 */
+
+/* Does `path` exist, with every group on the way? */
+static PetscErrorCode BwH5Exists(BwFileData *d, const char path[], PetscBool *exists)
+{
+  char buf[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  *exists = PETSC_FALSE;
+  PetscCall(PetscStrncpy(buf, path, sizeof(buf)));
+  for (char *p = buf + 1;; p++) {
+    if (*p && *p != '/') continue;
+    {
+      char   c = *p;
+      htri_t e;
+      *p = 0;
+      e  = H5Lexists(d->file, buf, H5P_DEFAULT);
+      *p = c;
+      if (e <= 0) PetscFunctionReturn(PETSC_SUCCESS);
+    }
+    if (!*p) break;
+  }
+  *exists = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static const char *BwH5ClassName(H5T_class_t c) { return c == H5T_INTEGER ? "integer" : c == H5T_FLOAT ? "floating-point" : c == H5T_STRING ? "string" : "non-numeric"; }
+
+/* Opens dataset `path`, checks its class and shape: rank 1, or rank 2 with
+ * `width` columns. */
+static PetscErrorCode BwH5Open(BwFileData *d, const char path[], H5T_class_t cls, int rank, hsize_t width, const char expected[], hid_t *dset, hsize_t *rows)
+{
+  hid_t       obj, type, space;
+  H5T_class_t c;
+  int         r;
+  hsize_t     dims[H5S_MAX_RANK];
+  char        shape[128] = "";
+
+  PetscFunctionBeginUser;
+  obj = H5Oopen(d->file, path, H5P_DEFAULT);
+  PetscCheck(obj >= 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: %s cannot be opened", d->path, path);
+  if (H5Iget_type(obj) != H5I_DATASET) {
+    H5Oclose(obj);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: %s is not a dataset; expected %s", d->path, path, expected);
+  }
+  type = H5Dget_type(obj);
+  c    = H5Tget_class(type);
+  H5Tclose(type);
+  space = H5Dget_space(obj);
+  r     = H5Sget_simple_extent_ndims(space);
+  if (r >= 0 && r <= H5S_MAX_RANK) H5Sget_simple_extent_dims(space, dims, NULL);
+  H5Sclose(space);
+  if (c != cls) {
+    H5Dclose(obj);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: %s holds %s values; expected %s", d->path, path, BwH5ClassName(c), expected);
+  }
+  for (int k = 0; k < r; k++) {
+    char item[32];
+    PetscCall(PetscSNPrintf(item, sizeof(item), "%s%llu", k ? ", " : "", (unsigned long long)dims[k]));
+    PetscCall(PetscStrlcat(shape, item, sizeof(shape)));
+  }
+  if (r != rank || (rank == 2 && dims[1] != width)) {
+    H5Dclose(obj);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: %s has shape (%s%s); expected %s", d->path, path, shape, r == 1 ? "," : "", expected);
+  }
+  PetscCheck(dims[0] < (hsize_t)PETSC_MAX_INT / 4, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: %s has %llu rows, more than this build's PetscInt can index", d->path, path, (unsigned long long)dims[0]);
+  *rows = dims[0];
+  *dset = obj;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwH5Read(BwFileData *d, const char path[], hid_t dset, hid_t memtype, hsize_t count, void *buf)
+{
+  herr_t err = 0;
+
+  PetscFunctionBeginUser;
+  if (count) err = H5Dread(dset, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf);
+  H5Dclose(dset);
+  PetscCheck(err >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "%s: %s cannot be read", d->path, path);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwFileReadSets(BwFileData *d)
+{
+  PetscBool  exists;
+  hid_t      grp;
+  H5G_info_t info;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwH5Exists(d, "/sets", &exists));
+  if (!exists) PetscFunctionReturn(PETSC_SUCCESS);
+  grp = H5Oopen(d->file, "/sets", H5P_DEFAULT);
+  PetscCheck(grp >= 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets cannot be opened", d->path);
+  if (H5Iget_type(grp) != H5I_GROUP) {
+    H5Oclose(grp);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets is not a group; expected one int64 dataset per block set", d->path);
+  }
+  H5Gget_info(grp, &info);
+  PetscCall(PetscCalloc1(info.nlinks + 1, &d->setname));
+  PetscCall(PetscCalloc1(info.nlinks + 1, &d->setdata));
+  PetscCall(PetscCalloc1(info.nlinks + 1, &d->setlen));
+  for (hsize_t k = 0; k < info.nlinks; k++) {
+    char    name[256], path[300];
+    ssize_t len = H5Lget_name_by_idx(grp, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof(name), H5P_DEFAULT);
+    hid_t   dset;
+    hsize_t n;
+
+    if (len < 0 || len >= (ssize_t)sizeof(name)) {
+      H5Gclose(grp);
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets: the name of set %llu cannot be read or is longer than %d characters", d->path, (unsigned long long)k, (int)sizeof(name) - 1);
+    }
+    /* a set name becomes part of option names (-loads_NAME, -supports_NAME_u1) */
+    for (const char *c = name; *c; c++)
+      if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') || *c == '_')) {
+        H5Gclose(grp);
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets/%s: set names may hold only letters, digits and '_' (they become scene keys loads.NAME, supports.NAME)", d->path, name);
+      }
+    PetscCall(PetscSNPrintf(path, sizeof(path), "/sets/%s", name));
+    PetscCall(PetscStrallocpy(name, &d->setname[d->nsets]));
+    d->nsets++;
+    PetscCall(BwH5Open(d, path, H5T_INTEGER, 1, 0, "int64 (k): the blocks of the set", &dset, &n));
+    d->setlen[d->nsets - 1] = (PetscInt)n;
+    PetscCall(PetscMalloc1(n + 1, &d->setdata[d->nsets - 1]));
+    PetscCall(BwH5Read(d, path, dset, H5T_NATIVE_INT64, n, d->setdata[d->nsets - 1]));
+  }
+  H5Gclose(grp);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Every dataset read, its shape and type checked. */
+static PetscErrorCode BwFileRead(BwFileData *d)
+{
+  hid_t     fapl, dset;
+  hsize_t   rows, nb1;
+  PetscBool exists, has_kn, has_kt;
+  htri_t    is;
+
+  PetscFunctionBeginUser;
+  PetscCheck(access(d->path, R_OK) == 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: cannot read '%s': %s", d->where, d->path, strerror(errno));
+  is = H5Fis_hdf5(d->path);
+  PetscCheck(is > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: '%s' is not an HDF5 file", d->where, d->path);
+  fapl = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_fclose_degree(fapl, H5F_CLOSE_STRONG); /* closing the file closes what an error left open */
+  d->file = H5Fopen(d->path, H5F_ACC_RDONLY, fapl);
+  H5Pclose(fapl);
+  PetscCheck(d->file >= 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: '%s' cannot be opened as an HDF5 file", d->where, d->path);
+
+  PetscCall(BwH5Exists(d, "/blocks/vertices", &exists));
+  PetscCheck(exists, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: no dataset /blocks/vertices; a geometry file needs /blocks/vertices (V, 2) and /blocks/offsets (B+1)", d->path);
+  PetscCall(BwH5Exists(d, "/blocks/offsets", &exists));
+  PetscCheck(exists, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: no dataset /blocks/offsets; a geometry file needs /blocks/vertices (V, 2) and /blocks/offsets (B+1)", d->path);
+  PetscCall(BwH5Open(d, "/blocks/vertices", H5T_FLOAT, 2, 2, "float64 (V, 2): x, y of every vertex", &dset, &rows));
+  d->nv = (PetscInt)rows;
+  PetscCall(PetscMalloc1(2 * d->nv + 1, &d->xy));
+  PetscCall(BwH5Read(d, "/blocks/vertices", dset, H5T_NATIVE_DOUBLE, rows, d->xy));
+  PetscCall(BwH5Open(d, "/blocks/offsets", H5T_INTEGER, 1, 0, "int64 (B+1): block b has vertex rows offsets[b]..offsets[b+1]-1", &dset, &nb1));
+  PetscCheck(nb1 >= 2, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/offsets has %llu entries; it needs B+1 >= 2 (at least one block)", d->path, (unsigned long long)nb1);
+  d->nb = (PetscInt)nb1 - 1;
+  PetscCall(PetscMalloc1(nb1, &d->offsets));
+  PetscCall(BwH5Read(d, "/blocks/offsets", dset, H5T_NATIVE_INT64, nb1, d->offsets));
+  PetscCheck(d->offsets[0] == 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/offsets[0] = %lld; it must be 0 (block 0 starts at vertex row 0)", d->path, (long long)d->offsets[0]);
+  for (PetscInt b = 0; b < d->nb; b++)
+    PetscCheck(d->offsets[b + 1] >= d->offsets[b], PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/offsets is not increasing: offsets[%" PetscInt_FMT "] = %lld < offsets[%" PetscInt_FMT "] = %lld (block %" PetscInt_FMT ")", d->path, b + 1, (long long)d->offsets[b + 1], b, (long long)d->offsets[b], b);
+  PetscCheck(d->offsets[d->nb] == d->nv, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/offsets[%" PetscInt_FMT "] = %lld (the last) must equal the number of rows of /blocks/vertices, %" PetscInt_FMT, d->path, d->nb, (long long)d->offsets[d->nb], d->nv);
+
+  PetscCall(BwH5Exists(d, "/interfaces/blocks", &d->has_pairs));
+  PetscCall(BwH5Exists(d, "/interfaces/kn", &has_kn));
+  PetscCall(BwH5Exists(d, "/interfaces/kt", &has_kt));
+  if (d->has_pairs) {
+    PetscCall(BwH5Open(d, "/interfaces/blocks", H5T_INTEGER, 2, 2, "int64 (I, 2): pairs (i, j), i < j", &dset, &rows));
+    d->ni = (PetscInt)rows;
+    PetscCall(PetscMalloc1(2 * d->ni + 1, &d->pairs));
+    PetscCall(BwH5Read(d, "/interfaces/blocks", dset, H5T_NATIVE_INT64, rows, d->pairs));
+  } else
+    PetscCheck(!has_kn && !has_kt, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: %s is given without /interfaces/blocks; per-interface stiffness needs the interface list (detected interfaces take joints.*)", d->path, has_kn ? "/interfaces/kn" : "/interfaces/kt");
+  for (int s = 0; s < 2; s++) {
+    const char *path = s ? "/interfaces/kt" : "/interfaces/kn";
+    PetscReal **k    = s ? &d->kt : &d->kn;
+    if (!(s ? has_kt : has_kn)) continue;
+    PetscCall(BwH5Open(d, path, H5T_FLOAT, 1, 0, "float64 (I): one stiffness per interface [N/m^3]", &dset, &rows));
+    PetscCheck((PetscInt)rows == d->ni, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: %s has %llu values but /interfaces/blocks has %" PetscInt_FMT " interfaces", d->path, path, (unsigned long long)rows, d->ni);
+    PetscCall(PetscMalloc1(d->ni + 1, k));
+    PetscCall(BwH5Read(d, path, dset, H5T_NATIVE_DOUBLE, rows, *k));
+  }
+  PetscCall(BwFileReadSets(d));
+  if (H5Aexists(d->file, "depth") > 0) {
+    hid_t    a = H5Aopen(d->file, "depth", H5P_DEFAULT), type = H5Aget_type(a), space = H5Aget_space(a);
+    hssize_t n = H5Sget_simple_extent_npoints(space);
+    H5T_class_t c = H5Tget_class(type);
+    herr_t   err = -1;
+    H5Tclose(type);
+    H5Sclose(space);
+    if (c == H5T_FLOAT && n == 1) err = H5Aread(a, H5T_NATIVE_DOUBLE, &d->depth);
+    H5Aclose(a);
+    PetscCheck(err >= 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: root attribute depth must be one float64 [m]", d->path);
+    PetscCheck(d->depth > 0 && PetscIsNormalReal(d->depth), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: root attribute depth = %g; it must be > 0 [m]", d->path, (double)d->depth);
+    d->has_depth = PETSC_TRUE;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------ checks */
+
+/* Indices, stiffnesses and set members: what needs no geometry. */
+static PetscErrorCode BwFileCheckIndices(BwFileData *d)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < d->ni; k++) {
+    int64_t i = d->pairs[2 * k], j = d->pairs[2 * k + 1];
+    for (int s = 0; s < 2; s++) {
+      int64_t b = s ? j : i;
+      PetscCheck(b >= 0 && b < d->nb, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: interface %" PetscInt_FMT " names block %lld, out of range [0, %" PetscInt_FMT ")", d->path, k, (long long)b, d->nb);
+    }
+    PetscCheck(i != j, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: interface %" PetscInt_FMT " joins block %lld to itself (i = j)", d->path, k, (long long)i);
+    PetscCheck(i < j, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: interface %" PetscInt_FMT " is (%lld, %lld) with i > j; pairs must be (i, j) with i < j, the normal n pointing from i into j", d->path, k, (long long)i, (long long)j);
+  }
+  for (int s = 0; s < 2; s++) {
+    const PetscReal *kk = s ? d->kt : d->kn;
+    if (!kk) continue;
+    for (PetscInt k = 0; k < d->ni; k++)
+      PetscCheck(kk[k] > 0 && PetscIsNormalReal(kk[k]), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /interfaces/%s: interface %" PetscInt_FMT " (blocks %lld, %lld) has %s = %g; it must be > 0 and finite [N/m^3]", d->path, s ? "kt" : "kn", k, (long long)d->pairs[2 * k], (long long)d->pairs[2 * k + 1], s ? "kt" : "kn", (double)kk[k]);
+  }
+  for (PetscInt s = 0; s < d->nsets; s++) {
+    int64_t *m = d->setdata[s];
+    for (PetscInt k = 0; k < d->setlen[s]; k++)
+      PetscCheck(m[k] >= 0 && m[k] < d->nb, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets/%s: member %" PetscInt_FMT " is block %lld, out of range [0, %" PetscInt_FMT ")", d->path, d->setname[s], k, (long long)m[k], d->nb);
+    /* a block listed twice would take the set's load twice */
+    {
+      PetscInt *idx;
+      PetscCall(PetscMalloc1(d->setlen[s] + 1, &idx));
+      for (PetscInt k = 0; k < d->setlen[s]; k++) idx[k] = (PetscInt)m[k];
+      PetscCall(PetscSortInt(d->setlen[s], idx));
+      for (PetscInt k = 1; k < d->setlen[s]; k++) {
+        if (idx[k] != idx[k - 1]) continue;
+        {
+          PetscInt b = idx[k];
+          PetscCall(PetscFree(idx));
+          SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets/%s lists block %" PetscInt_FMT " more than once", d->path, d->setname[s], b);
+        }
+      }
+      PetscCall(PetscFree(idx));
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  PetscInt i, j, row;
+} BwRow;
+
+static int BwRowCompare(const void *x, const void *y)
+{
+  const BwRow *p = (const BwRow *)x, *q = (const BwRow *)y;
+  if (p->i != q->i) return p->i < q->i ? -1 : 1;
+  if (p->j != q->j) return p->j < q->j ? -1 : 1;
+  return p->row < q->row ? -1 : p->row > q->row;
+}
+
+/* G, theta, l of each listed interface from its blocks' facing edges. */
+static PetscErrorCode BwFileExplicitInterfaces(BwGeometry g, BwFileData *d, const BwTolerance *tol)
+{
+  BwRow     *rows;
+  BwSegment *seg = NULL, *at;
+  PetscInt   cap = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(d->ni + 1, &rows, d->ni + 1, &at));
+  for (PetscInt k = 0; k < d->ni; k++) {
+    rows[k].i   = (PetscInt)d->pairs[2 * k];
+    rows[k].j   = (PetscInt)d->pairs[2 * k + 1];
+    rows[k].row = k;
+  }
+  qsort(rows, (size_t)d->ni, sizeof(BwRow), BwRowCompare);
+  for (PetscInt r0 = 0; r0 < d->ni;) {
+    PetscInt r1 = r0, i = rows[r0].i, j = rows[r0].j, n;
+    while (r1 < d->ni && rows[r1].i == i && rows[r1].j == j) r1++;
+    PetscCall(BwDetectPair(g, tol, i, j, &n, &cap, &seg));
+    if (n == 0 || r1 - r0 != n) {
+      PetscInt first = rows[r0].row, extra = r1 - r0 > n ? rows[r0 + n].row : -1;
+      PetscCall(PetscFree(seg));
+      PetscCall(PetscFree2(rows, at));
+      PetscCheck(n > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: interface %" PetscInt_FMT " joins blocks %" PetscInt_FMT " and %" PetscInt_FMT ", which have no facing edges (anti-parallel within %g deg, at most e + tolerance = %g m apart, overlapping by more than %g m)", d->path, first, i, j, (double)(BW_FACING_ANGLE * 180 / PETSC_PI), (double)tol->gapmax, (double)tol->delta);
+      PetscCheck(extra < 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: interface %" PetscInt_FMT " repeats the pair (%" PetscInt_FMT ", %" PetscInt_FMT ") of interface %" PetscInt_FMT " (duplicate pair); the two blocks face each other along %" PetscInt_FMT " segment%s", d->path, extra, i, j, first, n, n > 1 ? "s" : "");
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: blocks %" PetscInt_FMT " and %" PetscInt_FMT " face each other along %" PetscInt_FMT " separate segments, but the pair is listed %" PetscInt_FMT " time%s (interface %" PetscInt_FMT "); list it once per segment", d->path, i, j, n, r1 - r0, r1 - r0 > 1 ? "s" : "", first);
+    }
+    for (PetscInt r = r0; r < r1; r++) at[rows[r].row] = seg[r - r0];
+    r0 = r1;
+  }
+  for (PetscInt k = 0; k < d->ni; k++) PetscCall(BwGeometryAddInterface(g, (PetscInt)d->pairs[2 * k], (PetscInt)d->pairs[2 * k + 1], at[k].center, at[k].angle, at[k].length, BW_JOINT_BED));
+  PetscCall(PetscFree(seg));
+  PetscCall(PetscFree2(rows, at));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Rank 0: everything from the file into g. */
+static PetscErrorCode BwFileBuild(BwGeometry g, BwFileData *d, PetscReal thickness)
+{
+  BwTolerance tol;
+  PetscReal  *poly;
+  PetscInt    maxnv = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwFileRead(d));
+  PetscCall(BwFileCheckIndices(d));
+  /* finite coordinates first: the tolerances are computed from them */
+  for (PetscInt b = 0; b < d->nb; b++) {
+    maxnv = PetscMax(maxnv, (PetscInt)(d->offsets[b + 1] - d->offsets[b]));
+    for (int64_t v = d->offsets[b]; v < d->offsets[b + 1]; v++)
+      PetscCheck(!PetscIsInfOrNanReal(d->xy[2 * v]) && !PetscIsInfOrNanReal(d->xy[2 * v + 1]), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT ": vertex row %lld is not finite (%g, %g)", d->path, b, (long long)v, (double)d->xy[2 * v], (double)d->xy[2 * v + 1]);
+  }
+  {
+    PetscInt *off;
+    PetscCall(PetscMalloc1(d->nb + 1, &off));
+    for (PetscInt b = 0; b <= d->nb; b++) off[b] = (PetscInt)d->offsets[b];
+    PetscCall(BwToleranceCompute(d->nv, d->xy, d->nb, off, thickness, &tol));
+    PetscCall(PetscFree(off));
+  }
+  PetscCall(PetscMalloc1(2 * maxnv + 1, &poly));
+  for (PetscInt b = 0; b < d->nb; b++) {
+    PetscInt  first = (PetscInt)d->offsets[b], nv = (PetscInt)(d->offsets[b + 1] - d->offsets[b]);
+    PetscBool reversed;
+    PetscErrorCode ierr;
+    PetscCall(PetscArraycpy(poly, d->xy + 2 * first, 2 * nv));
+    ierr = BwValidatePolygon(d->path, b, first, nv, poly, &tol, &reversed);
+    if (ierr) {
+      PetscCall(PetscFree(poly));
+      return ierr;
+    }
+    PetscCall(BwGeometryAddBlock(g, nv, poly, NULL));
+  }
+  PetscCall(PetscFree(poly));
+  PetscCall(BwGeometryComputeCentroids(g));
+  PetscCall(BwValidateOverlaps(d->path, g, &tol));
+  if (d->has_pairs) PetscCall(BwFileExplicitInterfaces(g, d, &tol));
+  else PetscCall(BwDetectInterfaces(g, &tol));
+  PetscCall(BwValidateConnected(d->path, g, d->has_pairs ? PETSC_FALSE : PETSC_TRUE, &tol));
+  for (int s = 0; s < 2; s++) {
+    const PetscReal *k = s ? d->kt : d->kn;
+    PetscReal      **to = s ? &g->kt : &g->kn;
+    if (!k) continue;
+    PetscCall(PetscMalloc1(d->ni + 1, to));
+    PetscCall(PetscArraycpy(*to, k, d->ni));
+  }
+  for (PetscInt s = 0; s < d->nsets; s++) {
+    PetscInt *members;
+    PetscCall(PetscMalloc1(d->setlen[s] + 1, &members));
+    for (PetscInt k = 0; k < d->setlen[s]; k++) members[k] = (PetscInt)d->setdata[s][k];
+    PetscCall(BwGeometryAddSet(g, d->setname[s], d->setlen[s], members));
+    PetscCall(PetscFree(members));
+  }
+  if (d->has_depth) g->depth = d->depth;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Rank 0's geometry to every other rank (whose g is still empty). */
+static PetscErrorCode BwGeometryBcast(BwGeometry g)
+{
+  PetscMPIInt rank;
+  PetscInt    n[7] = {g->nblocks, g->nvertices, g->ninterfaces, g->nsets, g->nsets ? g->setoffsets[g->nsets] : 0, g->kn ? 1 : 0, g->kt ? 1 : 0}, namelen = 0;
+  char       *names = NULL;
+  int        *kind;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
+  PetscCallMPI(MPI_Bcast(n, 7, MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(&g->depth, 1, MPIU_REAL, 0, g->comm));
+  if (rank) {
+    g->nblocks = g->maxblocks = n[0];
+    g->nvertices = g->maxvertices = n[1];
+    g->ninterfaces = g->maxinterfaces = n[2];
+    g->nsets = g->maxsets = n[3];
+    g->maxsetblocks       = n[4];
+    PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(n[0] + 1), &g->offsets));
+    PetscCall(PetscMalloc1(2 * n[1] + 1, &g->vertices));
+    PetscCall(PetscMalloc1(2 * n[0] + 1, &g->centroid));
+    PetscCall(PetscMalloc1(n[0] + 1, &g->area));
+    PetscCall(PetscMalloc1(2 * n[2] + 1, &g->pair));
+    PetscCall(PetscMalloc1(2 * n[2] + 1, &g->center));
+    PetscCall(PetscMalloc1(n[2] + 1, &g->angle));
+    PetscCall(PetscMalloc1(n[2] + 1, &g->length));
+    PetscCall(PetscMalloc1(n[2] + 1, &g->kind));
+    if (n[5]) PetscCall(PetscMalloc1(n[2] + 1, &g->kn));
+    if (n[6]) PetscCall(PetscMalloc1(n[2] + 1, &g->kt));
+    PetscCall(PetscCalloc1(n[3] + 1, &g->setname));
+    PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(n[3] + 1), &g->setoffsets));
+    PetscCall(PetscMalloc1(n[4] + 1, &g->setblocks));
+  }
+  PetscCallMPI(MPI_Bcast(g->offsets, (PetscMPIInt)(n[0] + 1), MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->vertices, (PetscMPIInt)(2 * n[1]), MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->centroid, (PetscMPIInt)(2 * n[0]), MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->area, (PetscMPIInt)n[0], MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->pair, (PetscMPIInt)(2 * n[2]), MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->center, (PetscMPIInt)(2 * n[2]), MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->angle, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->length, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
+  PetscCall(PetscMalloc1(n[2] + 1, &kind));
+  for (PetscInt k = 0; k < n[2]; k++) kind[k] = (int)g->kind[k];
+  PetscCallMPI(MPI_Bcast(kind, (PetscMPIInt)n[2], MPI_INT, 0, g->comm));
+  for (PetscInt k = 0; k < n[2]; k++) g->kind[k] = (BwJointKind)kind[k];
+  PetscCall(PetscFree(kind));
+  if (n[5]) PetscCallMPI(MPI_Bcast(g->kn, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
+  if (n[6]) PetscCallMPI(MPI_Bcast(g->kt, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->setoffsets, (PetscMPIInt)(n[3] + 1), MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->setblocks, (PetscMPIInt)n[4], MPIU_INT, 0, g->comm));
+  /* set names, '\0'-separated */
+  if (!rank)
+    for (PetscInt s = 0; s < n[3]; s++) namelen += (PetscInt)strlen(g->setname[s]) + 1;
+  PetscCallMPI(MPI_Bcast(&namelen, 1, MPIU_INT, 0, g->comm));
+  PetscCall(PetscMalloc1(namelen + 1, &names));
+  if (!rank)
+    for (PetscInt s = 0, at = 0; s < n[3]; s++) {
+      PetscCall(PetscStrcpy(names + at, g->setname[s]));
+      at += (PetscInt)strlen(g->setname[s]) + 1;
+    }
+  PetscCallMPI(MPI_Bcast(names, (PetscMPIInt)namelen, MPI_CHAR, 0, g->comm));
+  if (rank)
+    for (PetscInt s = 0, at = 0; s < n[3]; s++) {
+      PetscCall(PetscStrallocpy(names + at, &g->setname[s]));
+      at += (PetscInt)strlen(names + at) + 1;
+    }
+  PetscCall(PetscFree(names));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGeneratorFile(BwGeometry g, BwScene scene, PetscReal thickness)
+{
+  BwFileData     d;
+  char           name[PETSC_MAX_PATH_LEN] = "", msg[BW_MSG_LEN] = "";
+  const char    *dir;
+  PetscBool      set;
+  PetscMPIInt    rank;
+  int            err = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&d, sizeof(d)));
+  d.file = -1;
+  PetscOptionsBegin(g->comm, NULL, "Geometry file (scene key geometry.file)", NULL);
+  PetscCall(PetscOptionsString("-geometry_file", "HDF5 geometry: /blocks/vertices, /blocks/offsets, optional /interfaces/blocks, kn, kt, /sets/NAME (in the scene file: relative to its directory)", NULL, name, name, sizeof(name), &set));
+  PetscOptionsEnd();
+  if (!set || !name[0]) PetscCall(BwSceneError(scene, "-geometry_file", "must name an HDF5 geometry file when geometry.generator is file"));
+  PetscCall(BwSceneLocate(scene, "-geometry_file", d.where, sizeof(d.where)));
+  PetscCall(BwSceneGetDirectory(scene, &dir));
+  if (name[0] == '/' || !strncmp(d.where, "command line", 12) || !dir || !strcmp(dir, ".")) PetscCall(PetscStrncpy(d.path, name, sizeof(d.path)));
+  else PetscCall(PetscSNPrintf(d.path, sizeof(d.path), "%s/%s", dir, name));
+
+  PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
+  if (!rank) {
+    PetscErrorCode ierr = BwFileBuild(g, &d, thickness);
+    if (ierr) {
+      char *specific = NULL;
+      PetscErrorMessage(ierr, NULL, &specific);
+      PetscCall(PetscStrncpy(msg, specific && specific[0] ? specific : "reading the geometry file failed", sizeof(msg)));
+      err = (int)ierr;
+    }
+    PetscCall(BwFileDataDestroy(&d));
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, g->comm));
+  if (err) {
+    PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, 0, g->comm));
+    SETERRQ(g->comm, (PetscErrorCode)err, "%s", msg);
+  }
+  PetscCall(BwGeometryBcast(g));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

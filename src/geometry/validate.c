@@ -1,0 +1,349 @@
+/* Checks of a block assembly read from a file: each defect is one line
+ * naming the file, the dataset and the block, and the first one found wins.
+ *
+ * Polygons (per block, O(n^2) in its vertex count n, which is small):
+ *   finite coordinates; at least 3 vertices; consecutive vertices (and the
+ *   last and the first) more than delta apart; non-adjacent edges more than
+ *   delta apart (else the polygon crosses itself); |area| > delta *
+ *   perimeter / 2 (a polygon thinner than delta has zero area); adjacent
+ *   edges do not fold back onto each other. A clockwise polygon (area < 0)
+ *   is reversed, its vertex 0 kept first.
+ * Overlaps (O(N) with the spatial hash over bounding boxes): two blocks
+ * whose boxes overlap by more than delta in x and y are intersected
+ *   area(A n B) = sum over convex pieces C of B of area(clip(A, C))
+ * (Sutherland-Hodgman: clipping any polygon by a convex one gives the area
+ * of their intersection exactly, since the chords it adds along each clip
+ * line cancel in the shoelace sum); B is split into triangles by ear
+ * clipping when neither block is convex. They overlap when that area
+ * exceeds delta * (smaller perimeter): faces pressed into each other by
+ * less than delta are touching, not overlapping.
+ * Connection: every block has an interface (with more than one block). */
+#include "geometry/validate.h"
+#include "util/compat.h"
+
+static inline PetscReal BwCross(PetscReal ax, PetscReal ay, PetscReal bx, PetscReal by) { return ax * by - ay * bx; }
+
+static PetscReal BwPointSegment(const PetscReal p[2], const PetscReal a[2], const PetscReal b[2])
+{
+  PetscReal d[2] = {b[0] - a[0], b[1] - a[1]}, w[2] = {p[0] - a[0], p[1] - a[1]}, l2 = d[0] * d[0] + d[1] * d[1], s = 0;
+  if (l2 > 0) s = PetscMin(1, PetscMax(0, (w[0] * d[0] + w[1] * d[1]) / l2));
+  return PetscSqrtReal(PetscSqr(w[0] - s * d[0]) + PetscSqr(w[1] - s * d[1]));
+}
+
+/* Distance between segments a0-a1 and b0-b1 (0 when they cross). */
+static PetscReal BwSegmentSegment(const PetscReal a0[2], const PetscReal a1[2], const PetscReal b0[2], const PetscReal b1[2])
+{
+  PetscReal o1 = BwCross(a1[0] - a0[0], a1[1] - a0[1], b0[0] - a0[0], b0[1] - a0[1]);
+  PetscReal o2 = BwCross(a1[0] - a0[0], a1[1] - a0[1], b1[0] - a0[0], b1[1] - a0[1]);
+  PetscReal o3 = BwCross(b1[0] - b0[0], b1[1] - b0[1], a0[0] - b0[0], a0[1] - b0[1]);
+  PetscReal o4 = BwCross(b1[0] - b0[0], b1[1] - b0[1], a1[0] - b0[0], a1[1] - b0[1]);
+  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 0;
+  return PetscMin(PetscMin(BwPointSegment(a0, b0, b1), BwPointSegment(a1, b0, b1)), PetscMin(BwPointSegment(b0, a0, a1), BwPointSegment(b1, a0, a1)));
+}
+
+PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, PetscInt nv, PetscReal xy[], const BwTolerance *tol, PetscBool *reversed)
+{
+  const PetscReal d = tol->delta;
+  PetscReal       area = 0, perimeter = 0;
+
+  PetscFunctionBeginUser;
+  *reversed = PETSC_FALSE;
+  PetscCheck(nv >= 3, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/offsets: block %" PetscInt_FMT " has %" PetscInt_FMT " vertices (rows %" PetscInt_FMT "..%" PetscInt_FMT " of /blocks/vertices); a polygon needs at least 3", file, b, nv, first, first + nv - 1);
+  for (PetscInt k = 0; k < nv; k++)
+    PetscCheck(!PetscIsInfOrNanReal(xy[2 * k]) && !PetscIsInfOrNanReal(xy[2 * k + 1]), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT ": vertex row %" PetscInt_FMT " is not finite (%g, %g)", file, b, first + k, (double)xy[2 * k], (double)xy[2 * k + 1]);
+  for (PetscInt k = 0; k < nv; k++) {
+    PetscInt  k1 = (k + 1) % nv;
+    PetscReal l  = PetscSqrtReal(PetscSqr(xy[2 * k1] - xy[2 * k]) + PetscSqr(xy[2 * k1 + 1] - xy[2 * k + 1]));
+    if (l > d) continue;
+    if (k1 == 0)
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT ": its last vertex (row %" PetscInt_FMT ") repeats its first (row %" PetscInt_FMT ") at (%g, %g): duplicate vertices; list each corner once, the polygon closes by itself", file, b, first + k, first, (double)xy[0], (double)xy[1]);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT ": duplicate vertices: consecutive rows %" PetscInt_FMT " and %" PetscInt_FMT " coincide at (%g, %g)", file, b, first + k, first + k1, (double)xy[2 * k], (double)xy[2 * k + 1]);
+  }
+  /* non-adjacent edges k (k -> k+1) and l */
+  for (PetscInt k = 0; k < nv; k++)
+    for (PetscInt l = k + 2; l < nv; l++) {
+      PetscInt k1 = k + 1, l1 = (l + 1) % nv;
+      if (l1 == k) continue; /* edges nv-1 and 0 share vertex 0 */
+      PetscCheck(BwSegmentSegment(xy + 2 * k, xy + 2 * k1, xy + 2 * l, xy + 2 * l1) > d, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+                 "%s: /blocks/vertices: block %" PetscInt_FMT " is self-intersecting: its edges from row %" PetscInt_FMT " to %" PetscInt_FMT " and from row %" PetscInt_FMT " to %" PetscInt_FMT " cross or touch", file, b, first + k, first + k1, first + l, first + l1);
+    }
+  for (PetscInt k = 0; k < nv; k++) {
+    PetscInt k1 = (k + 1) % nv;
+    area += BwCross(xy[2 * k] - xy[0], xy[2 * k + 1] - xy[1], xy[2 * k1] - xy[0], xy[2 * k1 + 1] - xy[1]);
+    perimeter += PetscSqrtReal(PetscSqr(xy[2 * k1] - xy[2 * k]) + PetscSqr(xy[2 * k1 + 1] - xy[2 * k + 1]));
+  }
+  area *= 0.5;
+  PetscCheck(PetscAbsReal(area) > 0.5 * d * perimeter, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT " (rows %" PetscInt_FMT "..%" PetscInt_FMT ") has zero area (%g m^2 for a perimeter of %g m): its vertices are collinear", file, b, first, first + nv - 1, (double)area, (double)perimeter);
+  /* adjacent edges p -> k -> q folding back onto each other (a spike) */
+  for (PetscInt k = 0; k < nv; k++) {
+    PetscInt p = (k + nv - 1) % nv, q = (k + 1) % nv;
+    PetscCheck(BwPointSegment(xy + 2 * q, xy + 2 * p, xy + 2 * k) > d && BwPointSegment(xy + 2 * p, xy + 2 * k, xy + 2 * q) > d, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
+               "%s: /blocks/vertices: block %" PetscInt_FMT " is self-intersecting: its edges fold back onto each other at vertex row %" PetscInt_FMT " (%g, %g)", file, b, first + k, (double)xy[2 * k], (double)xy[2 * k + 1]);
+  }
+  if (area < 0) {
+    for (PetscInt k = 1, l = nv - 1; k < l; k++, l--)
+      for (int c = 0; c < 2; c++) {
+        PetscReal s     = xy[2 * k + c];
+        xy[2 * k + c]   = xy[2 * l + c];
+        xy[2 * l + c]   = s;
+      }
+    *reversed = PETSC_TRUE;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------ overlaps */
+
+typedef struct {
+  PetscInt   n, cap;
+  PetscReal *a;
+} BwRealBuf;
+
+static PetscErrorCode BwRealBufReserve(BwRealBuf *b, PetscInt n)
+{
+  PetscFunctionBeginUser;
+  if (n > b->cap) {
+    b->cap = PetscMax(n, 2 * b->cap);
+    PetscCall(PetscRealloc(sizeof(PetscReal) * (size_t)b->cap, &b->a));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  BwRealBuf s, w0, w1, c; /* shifted subject, clip work, shifted clip */
+  BwIntBuf  tri, idx;     /* triangles of a non-convex clip polygon */
+} BwClipWork;
+
+/* Signed area of the polygon subject (ns points) inside the convex,
+ * counter-clockwise polygon clip (nc points). */
+static PetscErrorCode BwClipArea(BwClipWork *w, PetscInt ns, const PetscReal s[], PetscInt nc, const PetscReal c[], PetscReal *area)
+{
+  BwRealBuf *in = &w->w0, *out = &w->w1, *tmp;
+  PetscInt   n  = ns;
+
+  PetscFunctionBeginUser;
+  *area = 0;
+  PetscCall(BwRealBufReserve(in, 2 * ns));
+  PetscCall(PetscArraycpy(in->a, s, 2 * ns));
+  for (PetscInt k = 0; k < nc && n > 0; k++) {
+    const PetscReal *c0 = c + 2 * k, *c1 = c + 2 * ((k + 1) % nc);
+    PetscReal        e[2] = {c1[0] - c0[0], c1[1] - c0[1]};
+    PetscInt         m = 0;
+
+    PetscCall(BwRealBufReserve(out, 4 * n + 4));
+    for (PetscInt i = 0; i < n; i++) {
+      const PetscReal *P = in->a + 2 * i, *Q = in->a + 2 * ((i + 1) % n);
+      PetscReal        sp = BwCross(e[0], e[1], P[0] - c0[0], P[1] - c0[1]), sq = BwCross(e[0], e[1], Q[0] - c0[0], Q[1] - c0[1]);
+      if (sp >= 0) {
+        out->a[2 * m]     = P[0];
+        out->a[2 * m + 1] = P[1];
+        m++;
+      }
+      if ((sp >= 0) != (sq >= 0)) {
+        PetscReal t       = sp / (sp - sq);
+        out->a[2 * m]     = P[0] + t * (Q[0] - P[0]);
+        out->a[2 * m + 1] = P[1] + t * (Q[1] - P[1]);
+        m++;
+      }
+    }
+    n   = m;
+    tmp = in;
+    in  = out;
+    out = tmp;
+  }
+  for (PetscInt i = 0; i < n; i++) {
+    PetscInt i1 = (i + 1) % n;
+    *area += 0.5 * BwCross(in->a[2 * i], in->a[2 * i + 1], in->a[2 * i1], in->a[2 * i1 + 1]);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Ear clipping of a simple counter-clockwise polygon into w->tri (3
+ * indices per triangle). An ear is a strictly convex corner whose triangle
+ * holds no other vertex; every simple polygon has one, but collinear
+ * corners and round-off can hide it: then the flattest corner goes. */
+static PetscErrorCode BwTriangulate(BwClipWork *w, PetscInt n, const PetscReal p[])
+{
+  PetscInt m = n, *idx;
+
+  PetscFunctionBeginUser;
+  w->idx.n = w->tri.n = 0;
+  for (PetscInt k = 0; k < n; k++) PetscCall(BwIntBufPush(&w->idx, k));
+  idx = w->idx.a;
+  while (m > 3) {
+    PetscInt  ear = -1, flat = 0;
+    PetscReal flatness = PETSC_MAX_REAL;
+    for (PetscInt k = 0; k < m && ear < 0; k++) {
+      PetscInt         a = idx[(k + m - 1) % m], b = idx[k], c = idx[(k + 1) % m];
+      const PetscReal *A = p + 2 * a, *B = p + 2 * b, *C = p + 2 * c;
+      PetscReal        cr = BwCross(B[0] - A[0], B[1] - A[1], C[0] - B[0], C[1] - B[1]);
+      PetscBool        empty = PETSC_TRUE;
+      if (PetscAbsReal(cr) < flatness) {
+        flatness = PetscAbsReal(cr);
+        flat     = k;
+      }
+      if (cr <= 0) continue;
+      for (PetscInt r = 0; r < m && empty; r++) {
+        const PetscReal *R = p + 2 * idx[r];
+        if (idx[r] == a || idx[r] == b || idx[r] == c) continue;
+        if (BwCross(B[0] - A[0], B[1] - A[1], R[0] - A[0], R[1] - A[1]) >= 0 && BwCross(C[0] - B[0], C[1] - B[1], R[0] - B[0], R[1] - B[1]) >= 0 && BwCross(A[0] - C[0], A[1] - C[1], R[0] - C[0], R[1] - C[1]) >= 0) empty = PETSC_FALSE;
+      }
+      if (empty) ear = k;
+    }
+    if (ear < 0) ear = flat;
+    PetscCall(BwIntBufPush(&w->tri, idx[(ear + m - 1) % m]));
+    PetscCall(BwIntBufPush(&w->tri, idx[ear]));
+    PetscCall(BwIntBufPush(&w->tri, idx[(ear + 1) % m]));
+    for (PetscInt k = ear; k < m - 1; k++) idx[k] = idx[k + 1];
+    m--;
+  }
+  for (PetscInt k = 0; k < 3; k++) PetscCall(BwIntBufPush(&w->tri, idx[k]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscBool BwConvex(PetscInt n, const PetscReal p[])
+{
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *A = p + 2 * k, *B = p + 2 * ((k + 1) % n), *C = p + 2 * ((k + 2) % n);
+    PetscReal        e0[2] = {B[0] - A[0], B[1] - A[1]}, e1[2] = {C[0] - B[0], C[1] - B[1]};
+    if (BwCross(e0[0], e0[1], e1[0], e1[1]) < -1e-9 * PetscSqrtReal((e0[0] * e0[0] + e0[1] * e0[1]) * (e1[0] * e1[0] + e1[1] * e1[1]))) return PETSC_FALSE;
+  }
+  return PETSC_TRUE;
+}
+
+/* area(A n B), coordinates shifted to A's first vertex for their digits. */
+static PetscErrorCode BwIntersectionArea(BwGeometry g, PetscInt A, PetscInt B, const PetscBool convex[], BwClipWork *w, PetscReal *area)
+{
+  const PetscReal *o = g->vertices + 2 * g->offsets[A];
+  PetscInt         s = A, c = B, ns, nc;
+
+  PetscFunctionBeginUser;
+  if (!convex[B] && convex[A]) {
+    s = B;
+    c = A;
+  }
+  ns = g->offsets[s + 1] - g->offsets[s];
+  nc = g->offsets[c + 1] - g->offsets[c];
+  PetscCall(BwRealBufReserve(&w->s, 2 * ns));
+  PetscCall(BwRealBufReserve(&w->c, 2 * nc));
+  for (PetscInt k = 0; k < ns; k++)
+    for (int d = 0; d < 2; d++) w->s.a[2 * k + d] = g->vertices[2 * (g->offsets[s] + k) + d] - o[d];
+  for (PetscInt k = 0; k < nc; k++)
+    for (int d = 0; d < 2; d++) w->c.a[2 * k + d] = g->vertices[2 * (g->offsets[c] + k) + d] - o[d];
+  if (convex[c]) PetscCall(BwClipArea(w, ns, w->s.a, nc, w->c.a, area));
+  else {
+    *area = 0;
+    PetscCall(BwTriangulate(w, nc, w->c.a));
+    for (PetscInt t = 0; t < w->tri.n; t += 3) {
+      PetscReal tri[6], a;
+      for (int k = 0; k < 3; k++)
+        for (int d = 0; d < 2; d++) tri[2 * k + d] = w->c.a[2 * w->tri.a[t + k] + d];
+      PetscCall(BwClipArea(w, ns, w->s.a, 3, tri, &a));
+      *area += a;
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  const PetscReal *box; /* xmin, ymin, xmax, ymax per block */
+} BwBoxShapeCtx;
+
+static void BwBoxShape(void *ctx, PetscInt b, PetscReal P[2], PetscReal Q[2], PetscReal *rx, PetscReal *ry)
+{
+  const PetscReal *x = ((BwBoxShapeCtx *)ctx)->box + 4 * b;
+  P[0]               = x[0];
+  Q[0]               = x[2];
+  P[1] = Q[1] = 0.5 * (x[1] + x[3]);
+  *rx         = 0;
+  *ry         = 0.5 * (x[3] - x[1]);
+}
+
+PetscErrorCode BwValidateOverlaps(const char file[], BwGeometry g, const BwTolerance *tol)
+{
+  PetscInt      nb = g->nblocks;
+  PetscReal    *box, *perimeter, d = tol->delta;
+  PetscBool    *convex;
+  BwGrid        grid;
+  BwBoxShapeCtx ctx;
+  BwClipWork    w;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&w, sizeof(w)));
+  PetscCall(PetscMalloc3(4 * nb, &box, nb, &perimeter, nb, &convex));
+  for (PetscInt b = 0; b < nb; b++) {
+    const PetscReal *v = g->vertices + 2 * g->offsets[b];
+    PetscInt         n = g->offsets[b + 1] - g->offsets[b];
+    box[4 * b] = box[4 * b + 2] = v[0];
+    box[4 * b + 1] = box[4 * b + 3] = v[1];
+    perimeter[b]                    = 0;
+    for (PetscInt k = 0; k < n; k++) {
+      PetscInt k1    = (k + 1) % n;
+      box[4 * b]     = PetscMin(box[4 * b], v[2 * k]);
+      box[4 * b + 1] = PetscMin(box[4 * b + 1], v[2 * k + 1]);
+      box[4 * b + 2] = PetscMax(box[4 * b + 2], v[2 * k]);
+      box[4 * b + 3] = PetscMax(box[4 * b + 3], v[2 * k + 1]);
+      perimeter[b] += PetscSqrtReal(PetscSqr(v[2 * k1] - v[2 * k]) + PetscSqr(v[2 * k1 + 1] - v[2 * k + 1]));
+    }
+    convex[b] = BwConvex(n, v);
+  }
+  ctx.box = box;
+  PetscCall(BwGridCreate(nb, BwBoxShape, &ctx, PetscMax(2 * tol->edge, d), &grid));
+  for (PetscInt a = 0; a < nb; a++) {
+    PetscCall(BwGridCandidates(&grid, a));
+    for (PetscInt c = 0; c < grid.cand.n; c++) {
+      PetscInt   b = grid.cand.a[c];
+      PetscReal  area, allowed;
+      if (PetscMin(box[4 * a + 2], box[4 * b + 2]) - PetscMax(box[4 * a], box[4 * b]) <= d) continue;
+      if (PetscMin(box[4 * a + 3], box[4 * b + 3]) - PetscMax(box[4 * a + 1], box[4 * b + 1]) <= d) continue;
+      PetscCall(BwIntersectionArea(g, a, b, convex, &w, &area));
+      allowed = d * PetscMin(perimeter[a], perimeter[b]);
+      if (area > allowed) {
+        PetscInt small = g->area[a] <= g->area[b] ? a : b;
+        PetscCall(BwGridDestroy(&grid));
+        PetscCall(PetscFree3(box, perimeter, convex));
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %.4g m^2, %.3g%% of block %" PetscInt_FMT, file, a, b, (double)area, (double)(100 * area / g->area[small]), small);
+      }
+    }
+  }
+  PetscCall(BwGridDestroy(&grid));
+  PetscCall(PetscFree3(box, perimeter, convex));
+  PetscCall(PetscFree(w.s.a));
+  PetscCall(PetscFree(w.w0.a));
+  PetscCall(PetscFree(w.w1.a));
+  PetscCall(PetscFree(w.c.a));
+  PetscCall(PetscFree(w.tri.a));
+  PetscCall(PetscFree(w.idx.a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------ connection */
+
+PetscErrorCode BwValidateConnected(const char file[], BwGeometry g, PetscBool detected, const BwTolerance *tol)
+{
+  PetscInt *count, nfree = 0;
+  char      list[256] = "", hint[512] = "";
+
+  PetscFunctionBeginUser;
+  if (g->nblocks < 2) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscCalloc1(g->nblocks, &count));
+  for (PetscInt k = 0; k < g->ninterfaces; k++) {
+    count[g->pair[2 * k]]++;
+    count[g->pair[2 * k + 1]]++;
+  }
+  for (PetscInt b = 0; b < g->nblocks; b++) {
+    if (count[b]) continue;
+    if (nfree < 12) {
+      char item[32];
+      PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, nfree ? ", " : "", b));
+      PetscCall(PetscStrlcat(list, item, sizeof(list)));
+    } else if (nfree == 12) PetscCall(PetscStrlcat(list, ", ...", sizeof(list)));
+    nfree++;
+  }
+  PetscCall(PetscFree(count));
+  if (!nfree) PetscFunctionReturn(PETSC_SUCCESS);
+  if (detected)
+    PetscCall(PetscSNPrintf(hint, sizeof(hint), "; interfaces were detected (no /interfaces/blocks): an edge must face another block's edge, anti-parallel within %g deg, at most e + tolerance = %g m from it, and overlap it by more than %g m", (double)(BW_FACING_ANGLE * 180 / PETSC_PI), (double)tol->gapmax, (double)tol->delta));
+  else PetscCall(PetscSNPrintf(hint, sizeof(hint), "; /interfaces/blocks names no pair with %s", nfree > 1 ? "them" : "it"));
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks: block%s %s (%" PetscInt_FMT " block%s) %s unconnected: no interface joins %s to any other block%s", file, nfree > 1 ? "s" : "", list, nfree, nfree > 1 ? "s" : "", nfree > 1 ? "are" : "is", nfree > 1 ? "them" : "it", hint);
+}
