@@ -4,10 +4,11 @@
  * Polygons (per block, O(n^2) in its vertex count n, which is small):
  *   finite coordinates; at least 3 vertices; consecutive vertices (and the
  *   last and the first) more than delta apart; non-adjacent edges more than
- *   delta apart (else the polygon crosses itself); |area| > delta *
- *   perimeter / 2 (a polygon thinner than delta has zero area); adjacent
- *   edges do not fold back onto each other. A clockwise polygon (area < 0)
- *   is reversed, its vertex 0 kept first.
+ *   delta apart (else the polygon crosses itself; this also catches edges
+ *   folding back onto their neighbour, whose far end then touches the edge
+ *   before); |area| > delta * perimeter / 2 (a polygon thinner than delta
+ *   has zero area: this is what a triangle with collinear corners fails). A
+ *   clockwise polygon (area < 0) is reversed, its vertex 0 kept first.
  * Overlaps (O(N) with the spatial hash over bounding boxes): two blocks
  * whose boxes overlap by more than delta in x and y are intersected
  *   area(A n B) = sum over convex pieces C of B of area(clip(A, C))
@@ -74,12 +75,6 @@ PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, 
   }
   area *= 0.5;
   PetscCheck(PetscAbsReal(area) > 0.5 * d * perimeter, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT " (rows %" PetscInt_FMT "..%" PetscInt_FMT ") has zero area (%g m^2 for a perimeter of %g m): its vertices are collinear", file, b, first, first + nv - 1, (double)area, (double)perimeter);
-  /* adjacent edges p -> k -> q folding back onto each other (a spike) */
-  for (PetscInt k = 0; k < nv; k++) {
-    PetscInt p = (k + nv - 1) % nv, q = (k + 1) % nv;
-    PetscCheck(BwPointSegment(xy + 2 * q, xy + 2 * p, xy + 2 * k) > d && BwPointSegment(xy + 2 * p, xy + 2 * k, xy + 2 * q) > d, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT,
-               "%s: /blocks/vertices: block %" PetscInt_FMT " is self-intersecting: its edges fold back onto each other at vertex row %" PetscInt_FMT " (%g, %g)", file, b, first + k, (double)xy[2 * k], (double)xy[2 * k + 1]);
-  }
   if (area < 0) {
     for (PetscInt k = 1, l = nv - 1; k < l; k++, l--)
       for (int c = 0; c < 2; c++) {

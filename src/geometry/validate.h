@@ -29,7 +29,7 @@ PetscErrorCode BwToleranceCompute(PetscInt nvertices, const PetscReal xy[], Pets
 
 /* One polygon (nv vertices xy, block b, vertices first.. in the file):
  * fewer than 3 vertices, non-finite or coinciding consecutive vertices,
- * crossing edges, zero area, edges folding back. A clockwise polygon is
+ * crossing or touching edges, zero area. A clockwise polygon is
  * reversed in place (vertex 0 stays first); *reversed says so. */
 PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, PetscInt nv, PetscReal xy[], const BwTolerance *tol, PetscBool *reversed);
 /* Blocks whose interiors share more than delta * (smaller perimeter) of area. */

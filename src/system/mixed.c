@@ -204,62 +204,12 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed)
   PetscCall(MatDestroy(&mx->K));
   PetscCall(MatDestroy(&mx->D));
   PetscCall(MatDestroy(&mx->S));
+  for (PetscInt k = 0; k < mx->nkeep; k++) PetscCall(PetscFree(mx->keep[k]));
   PetscCall(VecDestroy(&mx->x));
   PetscCall(VecDestroy(&mx->b));
   PetscCall(ISDestroy(&mx->isr));
   PetscCall(ISDestroy(&mx->isq));
   PetscCall(PetscFree(*mixed));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Preallocation of D^ (stress rows x dof columns, at most 6 per row) and of
- * S^ (dof rows; columns: the free dofs of the block and its neighbours). */
-static PetscErrorCode BwMixedPreallocate(BwMixed mx, Mat D, Mat S)
-{
-  BwGeometry geom = mx->geom;
-  PetscInt   m2 = 2 * mx->m, *dd, *od, *sd, *so, nbr[512];
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscCalloc4(mx->nr_local, &dd, mx->nr_local, &od, mx->nq_local, &sd, mx->nq_local, &so));
-  for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt k = mx->own_interfaces[e], row = mx->stress[k] - mx->rstart, dn = 0, on = 0;
-    for (PetscInt c = 0; c < 6; c++) {
-      PetscInt col = mx->sdof[3 * geom->pair[2 * k + c / 3] + c % 3];
-      if (col < 0) continue;
-      if (col >= mx->qstart && col < mx->qstart + mx->nq_local) dn++;
-      else on++;
-    }
-    for (PetscInt p = 0; p < m2; p++) {
-      dd[row + p] = dn;
-      od[row + p] = on;
-    }
-  }
-  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-    PetscInt b = mx->own_blocks[e], nn = 0, sdn = 0, son = 0;
-    nbr[nn++] = b;
-    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
-      PetscInt k = mx->adj[a];
-      PetscCheck(nn < 512, PETSC_COMM_SELF, PETSC_ERR_SUP, "block %" PetscInt_FMT " has more than 511 interfaces", b);
-      nbr[nn++] = geom->pair[2 * k] == b ? geom->pair[2 * k + 1] : geom->pair[2 * k];
-    }
-    PetscCall(PetscSortRemoveDupsInt(&nn, nbr));
-    for (PetscInt n = 0; n < nn; n++)
-      for (PetscInt c = 0; c < 3; c++) {
-        PetscInt col = mx->sdof[3 * nbr[n] + c];
-        if (col < 0) continue;
-        if (col >= mx->qstart && col < mx->qstart + mx->nq_local) sdn++;
-        else son++;
-      }
-    for (PetscInt c = 0; c < 3; c++) {
-      PetscInt row = mx->sdof[3 * b + c];
-      if (row < 0) continue;
-      sd[row - mx->qstart] = sdn;
-      so[row - mx->qstart] = son;
-    }
-  }
-  PetscCall(MatXAIJSetPreallocation(D, 1, dd, od, NULL, NULL));
-  PetscCall(MatXAIJSetPreallocation(S, 1, sd, so, NULL, NULL));
-  PetscCall(PetscFree4(dd, od, sd, so));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -281,77 +231,193 @@ static PetscErrorCode BwMixedCreateAIJ(BwMixed mx, PetscInt m, PetscInt n, Petsc
  * so the mixed operator costs little more than D^ itself; an assembled AIJ
  * of the whole saddle matrix (mixed.storage aij, and the direct path, which
  * needs it for MUMPS) stores D^ twice plus the diagonal. */
-PetscErrorCode BwMixedAssemble(BwMixed mx)
+/* Sort a row's (column, value) pairs by column: rows hold at most a few
+ * dozen entries, so insertion sort. */
+static void BwSortRow(PetscInt n, PetscInt col[], PetscReal val[])
 {
-  BwGeometry geom = mx->geom;
-  BwModel    model = mx->model;
-  PetscInt   m2 = 2 * mx->m, *srow, scol[6];
-  PetscReal *d, *g, *vals, s[36], sv[36];
-  Mat        A00, A11, Dt, blocks[4];
-  IS         is[2];
+  for (PetscInt a = 1; a < n; a++) {
+    PetscInt  c = col[a];
+    PetscReal v = val[a];
+    PetscInt  b = a - 1;
+    for (; b >= 0 && col[b] > c; b--) {
+      col[b + 1] = col[b];
+      val[b + 1] = val[b];
+    }
+    col[b + 1] = c;
+    val[b + 1] = v;
+  }
+}
+
+/* The matrix from local CSR rows. On one rank PETSc takes the arrays as
+ * they are (no copy, no second pass): they are kept in `keep` and freed with
+ * the BwMixed. On more ranks PETSc splits them into its diagonal and
+ * off-diagonal parts, which copies; the arrays are freed at once. */
+static PetscErrorCode BwMatFromCSR(BwMixed mx, PetscInt m, PetscInt n, PetscInt M, PetscInt N, const char prefix[], PetscInt *ia, PetscInt *ja, PetscReal *va, Mat *A)
+{
+  PetscMPIInt size;
 
   PetscFunctionBeginUser;
-  PetscCall(BwMixedCreateAIJ(mx, mx->nr_local, mx->nq_local, mx->nr_global, mx->nq_global, "mixed_D_", &mx->D));
-  PetscCall(BwMixedCreateAIJ(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "schur_", &mx->S));
-  PetscCall(BwMixedPreallocate(mx, mx->D, mx->S));
-  PetscCall(MatSetOption(mx->D, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
-  PetscCall(MatSetOption(mx->S, MAT_SPD_ETERNAL, PETSC_TRUE));
-  PetscCall(VecCreateMPI(mx->comm, mx->nlocal, PETSC_DETERMINE, &mx->b));
-  PetscCall(VecDuplicate(mx->b, &mx->x));
-  PetscCall(PetscMalloc4(6 * m2, &d, m2, &g, 6 * m2, &vals, m2, &srow));
+  PetscCallMPI(MPI_Comm_size(mx->comm, &size));
+  if (size == 1) {
+    PetscCall(MatCreateSeqAIJWithArrays(mx->comm, m, n, ia, ja, va, A));
+    PetscCheck(mx->nkeep + 3 <= 6, PETSC_COMM_SELF, PETSC_ERR_PLIB, "too many kept arrays");
+    mx->keep[mx->nkeep++] = ia;
+    mx->keep[mx->nkeep++] = ja;
+    mx->keep[mx->nkeep++] = va;
+  } else {
+    PetscCall(MatCreateMPIAIJWithArrays(mx->comm, m, n, M, N, ia, ja, va, A));
+    PetscCall(PetscFree(ia));
+    PetscCall(PetscFree(ja));
+    PetscCall(PetscFree(va));
+  }
+  PetscCall(MatSetOptionsPrefix(*A, prefix));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-  /* per owned interface, one kernel call each: the 2m x nf block of D^, the
-   * lifted right-hand side, and the nf x nf block of S^ (added, possibly to
-   * another rank's rows) */
+/* Rows of D^ for the owned interfaces, built directly in CSR: a stress row
+ * has one entry per free dof of the interface's two blocks. Also fills the
+ * stress rows of the right-hand side (prescribed values lifted). */
+static PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscScalar bb[])
+{
+  BwGeometry geom = mx->geom;
+  PetscInt   m2 = 2 * mx->m, *ia, *ja, n = 0;
+  PetscReal *va, *d, *g;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(mx->nr_local + 1, &ia));
+  ia[0] = 0;
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt         k = mx->own_interfaces[e], nf = 0, pos[6];
+    PetscInt k = mx->own_interfaces[e], nf = 0;
+    for (PetscInt c = 0; c < 6; c++) nf += mx->sdof[3 * geom->pair[2 * k + c / 3] + c % 3] >= 0;
+    for (PetscInt p = 0; p < m2; p++, n++) ia[n + 1] = ia[n] + nf;
+  }
+  PetscCall(PetscMalloc1(ia[mx->nr_local], &ja));
+  PetscCall(PetscMalloc1(ia[mx->nr_local], &va));
+  PetscCall(PetscMalloc2(6 * m2, &d, m2, &g));
+  n = 0;
+  for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+    PetscInt         k = mx->own_interfaces[e];
     const PetscReal *sc[2];
-    PetscReal        w;
 
     PetscCall(BwMixedInterfaceOperator(mx, k, d, g));
-    PetscCall(BwMixedInterfaceStiffness(mx, k, s));
     PetscCall(BwMixedQScale(mx, geom->pair[2 * k], &sc[0]));
     PetscCall(BwMixedQScale(mx, geom->pair[2 * k + 1], &sc[1]));
-    for (PetscInt c = 0; c < 6; c++) {
-      PetscInt blk = geom->pair[2 * k + c / 3];
-      if (mx->sdof[3 * blk + c % 3] < 0) continue;
-      pos[nf]    = c;
-      scol[nf++] = mx->sdof[3 * blk + c % 3];
-    }
-    for (PetscInt p = 0; p < m2; p++) {
-      PetscReal rhs = 0;
-      srow[p] = mx->srow[k] + p;
-      w       = 1 / PetscSqrtReal(g[p]);
-      for (PetscInt f = 0; f < nf; f++) vals[p * nf + f] = w * d[6 * p + pos[f]] * sc[pos[f] / 3][pos[f] % 3];
+    for (PetscInt p = 0; p < m2; p++, n++) {
+      PetscReal w = 1 / PetscSqrtReal(g[p]), rhs = 0;
+      PetscInt  at = ia[n];
       for (PetscInt c = 0; c < 6; c++) {
-        PetscInt blk = geom->pair[2 * k + c / 3];
-        if (mx->sdof[3 * blk + c % 3] < 0) rhs -= w * d[6 * p + c] * model->value[3 * blk + c % 3];
+        PetscInt blk = geom->pair[2 * k + c / 3], col = mx->sdof[3 * blk + c % 3];
+        if (col >= 0) {
+          ja[at]   = col;
+          va[at++] = w * d[6 * p + c] * sc[c / 3][c % 3];
+        } else rhs -= w * d[6 * p + c] * mx->model->value[3 * blk + c % 3];
       }
-      PetscCall(VecSetValue(mx->b, mx->stress[k] + p, rhs, INSERT_VALUES));
-    }
-    if (nf) {
-      PetscCall(MatSetValues(mx->D, m2, srow, nf, scol, vals, INSERT_VALUES));
-      for (PetscInt a = 0; a < nf; a++)
-        for (PetscInt f = 0; f < nf; f++) sv[a * nf + f] = s[6 * pos[a] + pos[f]] * sc[pos[a] / 3][pos[a] % 3] * sc[pos[f] / 3][pos[f] % 3];
-      PetscCall(MatSetValues(mx->S, nf, scol, nf, scol, sv, ADD_VALUES));
+      BwSortRow(at - ia[n], ja + ia[n], va + ia[n]);
+      bb[mx->stress[k] + p - mx->rstart] = rhs;
     }
   }
-  /* loads on owned free dofs */
+  PetscCall(PetscFree2(d, g));
+  PetscCall(BwMatFromCSR(mx, mx->nr_local, mx->nq_local, mx->nr_global, mx->nq_global, "mixed_D_", ia, ja, va, &mx->D));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Rows of S^ for the owned blocks, in CSR: block b's row holds the free dofs
+ * of b and of its neighbours, summed over every interface touching b (the
+ * kernel is recomputed for interfaces another rank owns rather than
+ * communicated). Also fills the dof rows of the right-hand side. */
+static PetscErrorCode BwMixedAssembleS(BwMixed mx, PetscScalar bb[])
+{
+  BwGeometry geom = mx->geom;
+  PetscInt  *ia, *ja, nrow = 0, nnz = 0, nbr[512], ncol, col[1536];
+  PetscReal *va, s[36], acc[3][1536];
+
+  PetscFunctionBeginUser;
+  /* pass 1: row lengths */
+  PetscCall(PetscMalloc1(mx->nq_local + 1, &ia));
+  ia[0] = 0;
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-    PetscInt         b = mx->own_blocks[e];
+    PetscInt b = mx->own_blocks[e], nn = 0, len = 0;
+    nbr[nn++] = b;
+    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
+      PetscInt k = mx->adj[a];
+      PetscCheck(nn < 512, PETSC_COMM_SELF, PETSC_ERR_SUP, "block %" PetscInt_FMT " has more than 511 interfaces", b);
+      nbr[nn++] = geom->pair[2 * k] == b ? geom->pair[2 * k + 1] : geom->pair[2 * k];
+    }
+    PetscCall(PetscSortRemoveDupsInt(&nn, nbr));
+    for (PetscInt q = 0; q < nn; q++)
+      for (PetscInt c = 0; c < 3; c++) len += mx->sdof[3 * nbr[q] + c] >= 0;
+    for (PetscInt c = 0; c < 3; c++)
+      if (mx->sdof[3 * b + c] >= 0) {
+        ia[nrow + 1] = ia[nrow] + len;
+        nrow++;
+      }
+  }
+  PetscCall(PetscMalloc1(ia[nrow], &ja));
+  PetscCall(PetscMalloc1(ia[nrow], &va));
+  /* pass 2: values */
+  nrow = 0;
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt         b = mx->own_blocks[e], nn = 0;
     const PetscReal *sb;
+
     PetscCall(BwMixedQScale(mx, b, &sb));
     for (PetscInt c = 0; c < 3; c++)
-      if (mx->dof[3 * b + c] >= 0) PetscCall(VecSetValue(mx->b, mx->dof[3 * b + c], sb[c] * model->load[3 * b + c], INSERT_VALUES));
+      if (mx->dof[3 * b + c] >= 0) bb[mx->dof[3 * b + c] - mx->rstart] = sb[c] * mx->model->load[3 * b + c];
+    nbr[nn++] = b;
+    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
+      PetscInt k = mx->adj[a];
+      nbr[nn++] = geom->pair[2 * k] == b ? geom->pair[2 * k + 1] : geom->pair[2 * k];
+    }
+    PetscCall(PetscSortRemoveDupsInt(&nn, nbr));
+    ncol = 0;
+    for (PetscInt q = 0; q < nn; q++)
+      for (PetscInt c = 0; c < 3; c++)
+        if (mx->sdof[3 * nbr[q] + c] >= 0) col[ncol++] = mx->sdof[3 * nbr[q] + c];
+    for (PetscInt r = 0; r < 3; r++)
+      for (PetscInt f = 0; f < ncol; f++) acc[r][f] = 0;
+    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
+      PetscInt         k = mx->adj[a], side = BwSide(mx, k, b);
+      const PetscReal *sc[2];
+      PetscCall(BwMixedInterfaceStiffness(mx, k, s));
+      PetscCall(BwMixedQScale(mx, geom->pair[2 * k], &sc[0]));
+      PetscCall(BwMixedQScale(mx, geom->pair[2 * k + 1], &sc[1]));
+      for (PetscInt c2 = 0; c2 < 6; c2++) {
+        PetscInt cidx = mx->sdof[3 * geom->pair[2 * k + c2 / 3] + c2 % 3], f = 0;
+        if (cidx < 0) continue;
+        while (col[f] != cidx) f++;
+        for (PetscInt r = 0; r < 3; r++) acc[r][f] += s[6 * (side + r) + c2] * sc[c2 / 3][c2 % 3];
+      }
+    }
+    for (PetscInt r = 0; r < 3; r++) {
+      if (mx->sdof[3 * b + r] < 0) continue;
+      for (PetscInt f = 0; f < ncol; f++) {
+        ja[ia[nrow] + f] = col[f];
+        va[ia[nrow] + f] = acc[r][f] * sb[r];
+      }
+      BwSortRow(ncol, ja + ia[nrow], va + ia[nrow]);
+      nrow++;
+    }
+    nnz += 3 * ncol;
   }
-  PetscCall(PetscFree4(d, g, vals, srow));
-  PetscCall(MatAssemblyBegin(mx->D, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyBegin(mx->S, MAT_FINAL_ASSEMBLY));
-  PetscCall(VecAssemblyBegin(mx->b));
-  PetscCall(MatAssemblyEnd(mx->D, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(mx->S, MAT_FINAL_ASSEMBLY));
-  PetscCall(VecAssemblyEnd(mx->b));
+  PetscCall(BwMatFromCSR(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "schur_", ia, ja, va, &mx->S));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedAssemble(BwMixed mx)
+{
+  PetscScalar *bb;
+  Mat          A00, A11, Dt, blocks[4];
+  IS           is[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCreateMPI(mx->comm, mx->nlocal, PETSC_DETERMINE, &mx->b));
+  PetscCall(VecDuplicate(mx->b, &mx->x));
+  PetscCall(VecGetArray(mx->b, &bb));
+  PetscCall(BwMixedAssembleD(mx, bb));
+  PetscCall(BwMixedAssembleS(mx, bb));
+  PetscCall(VecRestoreArray(mx->b, &bb));
+  PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
+  PetscCall(MatSetOption(mx->S, MAT_SPD_ETERNAL, PETSC_TRUE));
 
   PetscCall(ISCreateStride(mx->comm, mx->nr_local, mx->rstart, 1, &mx->isr));
   PetscCall(ISCreateStride(mx->comm, mx->nq_local, mx->rstart + mx->nr_local, 1, &mx->isq));

@@ -206,11 +206,19 @@ static PetscErrorCode BwDescribeMotion(BwGeometry geom, PetscInt b, const PetscR
   PetscReal r = PetscSqrtReal(geom->area[b]), mag = PetscSqrtReal(q[0] * q[0] + q[1] * q[1] + PetscSqr(q[2] * r));
 
   PetscFunctionBeginUser;
-  if (PetscAbsReal(q[2]) * r > 1e-6 * mag)
-    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " rotates about (%.6g, %.6g)", b, (double)(geom->centroid[2 * b] - q[1] / q[2]), (double)(geom->centroid[2 * b + 1] + q[0] / q[2])));
-  else {
+  if (PetscAbsReal(q[2]) * r > 1e-6 * mag) {
+    PetscReal P[2] = {geom->centroid[2 * b] - q[1] / q[2], geom->centroid[2 * b + 1] + q[0] / q[2]};
+    /* the eigenvector carries round-off: a centre within 1e-8 of the
+     * block's size from an axis is on it */
+    for (int c = 0; c < 2; c++)
+      if (PetscAbsReal(P[c]) < 1e-8 * r) P[c] = 0;
+    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " rotates about (%.6g, %.6g)", b, (double)P[0], (double)P[1]));
+  } else {
     PetscReal l = PetscSqrtReal(q[0] * q[0] + q[1] * q[1]);
-    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " translates along (%.3g, %.3g)", b, (double)(q[0] / l), (double)(q[1] / l)));
+    PetscReal d[2] = {q[0] / l, q[1] / l};
+    for (int c = 0; c < 2; c++)
+      if (PetscAbsReal(d[c]) < 1e-8) d[c] = 0;
+    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " translates along (%.3g, %.3g)", b, (double)d[0], (double)d[1]));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

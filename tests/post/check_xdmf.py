@@ -15,6 +15,11 @@ Modes:
   two_blocks N  the paper's two blocks on N ranks (block 1 moves: rotation and
                 translation; with N = 2 the blocks' vertex rows come from two ranks)
   demo          examples/demo.yaml on 2 ranks (a wall of 101 blocks)
+  polygons      a file geometry of a rectangle, a pentagon and a triangle:
+                meshio knows no Polygon in a Mixed topology, so the blocks'
+                connectivity /xdmf/topology is compared with its closed form
+                (Polygon 3, n, ids; Triangle 4, ids; Quadrilateral 5, ids) and
+                the interfaces grid is read by meshio as above
   off           -output_xdmf false: no .xdmf, no /xdmf group
   failure       the .xdmf path is a directory: error, an existing result file
                 untouched, no temporary left behind
@@ -57,23 +62,36 @@ def close(got, want, what, scale=None):
     expect(err <= TOL, f"{what}: differs from the reference by {err:.2e} (relative)")
 
 
-def read_grids(xdmf):
-    """{grid name: meshio.Mesh}, each grid read on its own (see the module doc)."""
+def read_grids(xdmf, only=None):
+    """{grid name: meshio.Mesh}, each grid read on its own (see the module doc);
+    with `only`, that grid's Mesh."""
     tree = ET.parse(xdmf)
     root = tree.getroot()
     expect(root.tag == "Xdmf" and root.get("Version", "").startswith("3"), "not an XDMF 3 file")
     base = os.path.basename(xdmf)[: -len(".xdmf")] + ".h5"
-    for item in root.iter("DataItem"):
-        ref = item.text.strip()
-        expect(item.get("Format") == "HDF" and ref.split(":")[0] == base,
-               f"DataItem {ref!r} does not reference the result file beside it by its name")
+    with h5py.File(os.path.join(os.path.dirname(xdmf), base), "r") as f:
+        for item in root.iter("DataItem"):
+            ref = item.text.strip()
+            expect(item.get("Format") == "HDF" and ref.split(":")[0] == base,
+                   f"DataItem {ref!r} does not reference the result file beside it by its name")
+            dims = tuple(int(n) for n in item.get("Dimensions").split())
+            expect(dims == f[ref.split(":")[1]].shape, f"{ref}: Dimensions {dims}, dataset {f[ref.split(':')[1]].shape}")
+        counts = {"blocks": len(f["blocks/offsets"]) - 1, "interfaces": len(f["interfaces/length"])}
+    for grid in root.find("Domain").findall("Grid"):
+        n = int(grid.find("Topology").get("NumberOfElements"))
+        expect(n == counts[grid.get("Name")], f"grid {grid.get('Name')}: NumberOfElements {n}")
     grids = {}
     for grid in root.find("Domain").findall("Grid"):
+        if only and grid.get("Name") != only:
+            continue
         single = ET.Element("Xdmf", Version=root.get("Version"))
         ET.SubElement(single, "Domain").append(copy.deepcopy(grid))
         one = os.path.join(os.path.dirname(xdmf), f"grid_{grid.get('Name')}.xdmf")
         ET.ElementTree(single).write(one)
         grids[grid.get("Name")] = meshio.read(one)
+    if only:
+        expect(only in grids, f"no grid {only}")
+        return grids[only]
     return grids
 
 
@@ -124,6 +142,27 @@ def check(h5file, expect_quads=True):
     print(f"{os.path.basename(xdmf)}: {nb} blocks, {len(x)} vertices, {ni} interfaces match the HDF5 datasets")
 
 
+def polygons(tmp):
+    """Blocks of 4, 5 and 3 vertices; the result file's path."""
+    blocks = [[(0, 0), (0.4, 0), (0.4, 0.1), (0, 0.1)],
+              [(0, 0.11), (0.2, 0.11), (0.2, 0.21), (0.1, 0.26), (0, 0.21)],
+              [(0.21, 0.11), (0.4, 0.11), (0.21, 0.25)]]
+    with h5py.File(os.path.join(tmp, "geometry.h5"), "w") as f:
+        f["blocks/vertices"] = np.concatenate([np.asarray(b, float) for b in blocks])
+        f["blocks/offsets"] = np.array([0, 4, 9, 12], np.int64)
+        f["sets/base"] = np.array([0], np.int64)
+        f["sets/top"] = np.array([1, 2], np.int64)
+    scene = os.path.join(tmp, "scene.yaml")
+    with open(scene, "w") as f:
+        f.write("title: polygons\ngeometry: {generator: file, file: geometry.h5, depth: 0.1}\n"
+                "joints: {law: mortar, thickness: 0.01, E: 1.0e9, nu: 0.2}\ndiscretization: {m: 4}\n"
+                "supports:\n  base: {u1: 0, u2: 0, w: 0}\nloads:\n  top: [1000, -2000, 0]\n"
+                "output: {stresses: true, xdmf: true}\n")
+    out = os.path.join(tmp, "result.h5")
+    run(scene, ["-output_file", out])
+    return out
+
+
 def main(mode, *args):
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "result.h5")
@@ -134,6 +173,18 @@ def main(mode, *args):
             expect(os.path.isfile(DEMO), f"{DEMO} does not exist")
             run(DEMO, ["-output_file", out, "-output_xdmf", "true"], np_ranks=2)
             check(out)
+        elif mode == "polygons":
+            out = polygons(tmp)
+            with h5py.File(out, "r") as f:
+                topology = f["xdmf/topology"][()]
+            want = [5, 0, 1, 2, 3, 3, 5, 4, 5, 6, 7, 8, 4, 9, 10, 11]
+            expect(topology.tolist() == want, f"/xdmf/topology {topology.tolist()}, expected {want}")
+            d = h5(out)
+            expect(len(d["interfaces/length"]) == 3, f"{len(d['interfaces/length'])} interfaces found, expected 3")
+            grid = read_grids(os.path.splitext(out)[0] + ".xdmf", only="interfaces")
+            expect(grid.points.shape == (6, 2), f"interface points {grid.points.shape}")
+            for name in ["resultant", "kn", "blocks"]:
+                close(cell_field(grid, name), d[f"interfaces/{name}"], f"interface field {name}")
         elif mode == "off":
             run(TWO_BLOCKS, ["-output_file", out, "-output_xdmf", "false"])
             expect(sorted(os.listdir(tmp)) == ["result.h5"], f"files written: {sorted(os.listdir(tmp))}")

@@ -1,0 +1,98 @@
+"""Broken geometry files (tests/data/broken, made by tests/data/make_broken.py):
+blockwall exits non-zero with one line on stderr that names the file and
+says what is wrong where (make_broken.CASES), and no output file is created
+or changed (as tests/errors/check_errors.py).
+
+  check_broken.py CASE [RANKS]   one corpus file (on RANKS ranks: rank 0
+                                 reads, the error reaches every rank)
+  check_broken.py missing_file   geometry.file names no file
+  check_broken.py current        the committed files are what make_broken.py
+                                 writes, and every file has a case
+"""
+import os
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(HERE, "..", "data")
+BROKEN = os.path.join(DATA, "broken")
+sys.path.insert(0, os.path.join(HERE, "..", "common"))
+sys.path.insert(0, DATA)
+sys.path.insert(0, HERE)
+from bwrun import Failure, expect, run  # noqa: E402
+import geomlib  # noqa: E402
+import make_broken  # noqa: E402
+
+
+def check(name, geometry, wants, ranks=1):
+    with tempfile.TemporaryDirectory() as tmp:
+        target = os.path.join(tmp, "result.h5")
+        before = b"an earlier result that must survive\n"
+        with open(target, "wb") as f:
+            f.write(before)
+        scene = os.path.join(tmp, "scene.yaml")
+        geomlib.write_scene(scene, geometry)
+        code, out, err = run(scene, ["-output_file", target], np_ranks=ranks, expect_ok=False)
+        lines = [l for l in err.splitlines() if l.strip()]
+        if ranks > 1:  # mpiexec adds its own report of the failed job; blockwall's line must appear once
+            lines = [l for l in lines if l.startswith("blockwall")]
+        expect(code != 0, f"{name}: exit code 0")
+        expect(len(lines) == 1, f"{name}: expected one line on stderr, got {len(lines)}:\n{err}")
+        for w in [os.path.basename(geometry), *wants]:
+            expect(w in lines[0], f"{name}: {w!r} not in {lines[0]!r}")
+        with open(target, "rb") as f:
+            expect(f.read() == before, f"{name}: the existing output file was changed")
+        expect(sorted(os.listdir(tmp)) == ["result.h5", "scene.yaml"], f"{name}: files left behind: {os.listdir(tmp)}")
+        print(f"{name}{f' ({ranks} ranks)' if ranks > 1 else ''}: exit {code}: {lines[0]}")
+
+
+def same_file(a, b):
+    """The same datasets, values and root attributes (NaN equal to NaN)."""
+    try:
+        fa, fb = h5py.File(a, "r"), h5py.File(b, "r")
+    except OSError:
+        with open(a, "rb") as x, open(b, "rb") as y:
+            return x.read() == y.read()
+    with fa, fb:
+        na, nb = [], []
+        fa.visit(na.append)
+        fb.visit(nb.append)
+        if sorted(na) != sorted(nb) or dict(fa.attrs) != dict(fb.attrs):
+            return False
+        for n in na:
+            if isinstance(fa[n], h5py.Dataset):
+                x, y = fa[n][()], fb[n][()]
+                if x.dtype != y.dtype or x.shape != y.shape:
+                    return False
+                if not np.array_equal(x, y, equal_nan=x.dtype.kind == "f"):
+                    return False
+    return True
+
+
+def current():
+    with tempfile.TemporaryDirectory() as tmp:
+        make_broken.main(tmp)
+        fresh, committed = sorted(os.listdir(tmp)), sorted(os.listdir(BROKEN))
+        expect(fresh == committed, f"tests/data/broken differs from make_broken.py: {set(fresh) ^ set(committed)}")
+        for f in fresh:
+            expect(same_file(os.path.join(tmp, f), os.path.join(BROKEN, f)), f"tests/data/broken/{f} is not what make_broken.py writes")
+    expect(len(committed) >= 25, f"only {len(committed)} broken files")
+    print(f"{len(committed)} broken files, as make_broken.py writes them")
+
+
+if __name__ == "__main__":
+    try:
+        case = sys.argv[1]
+        if case == "current":
+            current()
+        elif case == "missing_file":
+            check(case, os.path.join(BROKEN, "does_not_exist.h5"), ["geometry.file", "cannot read", "No such file"])
+        else:
+            check(case, os.path.join(BROKEN, f"{case}.h5"), make_broken.CASES[case][2], int(sys.argv[2]) if len(sys.argv) > 2 else 1)
+    except Failure as e:
+        print("FAIL", e)
+        sys.exit(1)

@@ -1,0 +1,50 @@
+# Geometry from files (issue 4): HDF5 input, automatic interfaces,
+# validation, mechanisms. Included from tests/CMakeLists.txt, after
+# bw_py_test and BW_MPI_ENV are defined. Labels: geometry, plus errors /
+# mpi / mechanism where they apply.
+set(BW_GEOMETRY_DIR ${CMAKE_CURRENT_LIST_DIR})
+
+# Geometry without a solve, to check and time detection on 1e5 blocks.
+add_executable(test_geometry ${BW_GEOMETRY_DIR}/test_geometry.c)
+target_link_libraries(test_geometry PRIVATE blockwall_core)
+# The numerical mechanism check a solver calls on a singular matrix.
+add_executable(test_mechanism ${BW_GEOMETRY_DIR}/test_mechanism.c)
+target_link_libraries(test_mechanism PRIVATE blockwall_core)
+
+foreach(case sway sound)
+  add_test(NAME geometry.mechanism.numeric_${case} COMMAND test_mechanism ${case})
+  set_tests_properties(geometry.mechanism.numeric_${case} PROPERTIES LABELS "geometry;mechanism" ENVIRONMENT "${BW_MPI_ENV}")
+endforeach()
+
+foreach(case case2 roundtrip paths depth)
+  bw_py_test(geometry.file.${case} geometry geometry/check_file.py ${case})
+endforeach()
+bw_py_test(geometry.file.ranks "geometry;mpi" geometry/check_file.py ranks)
+foreach(case two_blocks wall)
+  bw_py_test(geometry.frame.${case} geometry geometry/check_frame.py ${case})
+endforeach()
+bw_py_test(geometry.arch geometry geometry/check_arch.py)
+foreach(case analytic generator)
+  bw_py_test(geometry.detect.wall_1e5_${case} geometry geometry/check_detect.py ${case})
+endforeach()
+
+# One test per broken file of tests/data/broken (tests/data/make_broken.py).
+foreach(case vertex_nan vertex_inf duplicate_vertex closed_polygon two_vertices one_vertex_block bowtie spike
+             fold_back zero_area overlap contained duplicate_block interface_out_of_range interface_negative
+             interface_self interface_reversed interface_duplicate interface_not_facing interface_listed_once
+             interfaces_shape interfaces_float kn_negative kt_zero kn_nan kn_length kn_without_blocks
+             set_out_of_range set_negative set_repeated set_shape set_name sets_not_group vertices_shape
+             vertices_1d vertices_int offsets_float offsets_decreasing offsets_end offsets_start offsets_empty
+             no_vertices no_offsets unconnected_detected unconnected_explicit gap_too_wide depth_negative
+             depth_string not_hdf5 missing_file current)
+  bw_py_test(geometry.broken.${case} "geometry;errors" geometry/check_broken.py ${case})
+endforeach()
+# rank 0 reads: the error must reach, and stop, every rank
+foreach(case overlap interface_duplicate set_out_of_range)
+  bw_py_test(geometry.broken.${case}_3ranks "geometry;errors;mpi" geometry/check_broken.py ${case} 3)
+endforeach()
+
+foreach(case hinge u1_only pinned_foundation unconnected arch_m1)
+  bw_py_test(geometry.mechanism.${case} "geometry;errors;mechanism" geometry/check_mechanism.py ${case})
+endforeach()
+bw_py_test(geometry.mechanism.sound "geometry;mechanism" geometry/check_mechanism.py sound)
