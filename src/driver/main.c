@@ -113,7 +113,7 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   PetscCall(BwLogEnd(&log, BW_PHASE_RECOVER));
   {
     PetscInt    n;
-    const char *idle[3];
+    const char *idle[4];
     PetscCall(BwSolverGetIdlePrefixes(run->solver, &n, idle));
     PetscCall(BwSceneCheckUnused(run->scene, n, idle));
   }

@@ -345,6 +345,11 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed 
     PetscCall(BwBlasName(blas, sizeof(blas)));
     PetscCall(BwH5AttrString(grp, "blas", blas));
   }
+  {
+    PetscLogDouble cur, peak;
+    PetscCall(BwMemoryUsage(out->comm, &cur, &peak));
+    PetscCall(BwH5AttrDouble(grp, "memory_peak_bytes", peak));
+  }
   PetscCall(PetscTime(&t1));
   for (int p = 0; p < BW_NPHASES; p++) {
     char name[64];

@@ -4,7 +4,7 @@
 #include "solver/solver.h"
 #include "util/compat.h"
 
-const char *const BwMethods[] = {"auto", "fieldsplit", "direct", "BwMethod", "BW_METHOD_", NULL};
+const char *const BwMethods[] = {"auto", "fieldsplit", "direct", "condensed", "BwMethod", "BW_METHOD_", NULL};
 
 PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver)
 {
@@ -22,6 +22,7 @@ PetscErrorCode BwSolverDestroy(BwSolver *solver)
   if (!*solver) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(KSPDestroy(&(*solver)->fieldsplit));
   PetscCall(KSPDestroy(&(*solver)->direct));
+  PetscCall(KSPDestroy(&(*solver)->condensed));
   PetscCall(PetscFree(*solver));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -47,7 +48,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(s->comm, NULL, "Solver (scene key solver.*)", NULL);
-  PetscCall(PetscOptionsEList("-solver_method", "auto (fieldsplit, MUMPS on failure), fieldsplit or direct", NULL, BwMethods, 3, BwMethods[method], &method, NULL));
+  PetscCall(PetscOptionsEList("-solver_method", "auto (fieldsplit, MUMPS on failure), fieldsplit, direct, or condensed (benchmark reference)", NULL, BwMethods, 4, BwMethods[method], &method, NULL));
   PetscCall(PetscOptionsReal("-solver_rtol", "Required relative true residual of the full mixed system (scaled)", NULL, s->rtol, &s->rtol, NULL));
   PetscCall(PetscOptionsEList("-solver_schur", "Schur complement solve of fieldsplit: cholesky (MUMPS) or gamg (CG+GAMG)", NULL, schurs, 2, schurs[schur], &schur, NULL));
   PetscOptionsEnd();
@@ -59,7 +60,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
    * database; the direct path's MUMPS gets a larger work-space margin,
    * since its estimate for saddle-point matrices with delayed pivots is too
    * small (INFOG(1) = -9 seen with the default 20 %). */
-  if (s->requested != BW_METHOD_DIRECT) {
+  if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_FIELDSPLIT) {
     PetscCall(BwSolverDefault(s, "-fieldsplit_r_ksp_type", "preonly"));
     PetscCall(BwSolverDefault(s, "-fieldsplit_r_pc_type", "jacobi"));
     if (s->schur_gamg) {
@@ -72,7 +73,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
       PetscCall(BwSolverDefault(s, "-fieldsplit_q_pc_factor_mat_solver_type", "mumps"));
     }
   }
-  if (s->requested != BW_METHOD_FIELDSPLIT) PetscCall(BwSolverDefault(s, "-direct_mat_mumps_icntl_14", "100"));
+  if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_DIRECT) PetscCall(BwSolverDefault(s, "-direct_mat_mumps_icntl_14", "100"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -226,6 +227,47 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The condensed reference: the stiffness S^ factored by MUMPS Cholesky, the
+ * stresses recovered from the displacements. */
+static PetscErrorCode BwSolverCondensed(BwSolver s, BwMixed mx, BwLog *log)
+{
+  PC  pc;
+  Vec br, bq, xr, xq, rhs;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPCreate(s->comm, &s->condensed));
+  PetscCall(KSPSetOptionsPrefix(s->condensed, "condensed_"));
+  PetscCall(KSPSetOperators(s->condensed, mx->S, mx->S));
+  PetscCall(KSPSetType(s->condensed, KSPPREONLY));
+  PetscCall(KSPGetPC(s->condensed, &pc));
+  PetscCall(PCSetType(pc, PCCHOLESKY));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(KSPSetFromOptions(s->condensed));
+  PetscCall(BwLogBegin(log, BW_PHASE_SETUP));
+  PetscCall(KSPSetUp(s->condensed));
+  PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
+  PetscCall(BwLogBegin(log, BW_PHASE_SOLVE));
+  PetscCall(VecGetSubVector(mx->b, mx->isr, &br));
+  PetscCall(VecGetSubVector(mx->b, mx->isq, &bq));
+  PetscCall(VecGetSubVector(mx->x, mx->isr, &xr));
+  PetscCall(VecGetSubVector(mx->x, mx->isq, &xq));
+  PetscCall(VecDuplicate(bq, &rhs));
+  PetscCall(MatMultTransposeAdd(mx->D, br, bq, rhs)); /* F^ + D^T b_r */
+  PetscCall(KSPSolve(s->condensed, rhs, xq));
+  PetscCall(MatMult(mx->D, xq, xr));
+  PetscCall(VecAXPY(xr, -1.0, br)); /* r~ = D^ q~ - b_r */
+  PetscCall(VecDestroy(&rhs));
+  PetscCall(VecRestoreSubVector(mx->x, mx->isq, &xq));
+  PetscCall(VecRestoreSubVector(mx->x, mx->isr, &xr));
+  PetscCall(VecRestoreSubVector(mx->b, mx->isq, &bq));
+  PetscCall(VecRestoreSubVector(mx->b, mx->isr, &br));
+  PetscCall(BwLogEnd(log, BW_PHASE_SOLVE));
+  s->used       = BW_METHOD_CONDENSED;
+  s->iterations = 0;
+  PetscCall(BwMixedCheck(mx, mx->x, NULL, &s->check));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
 {
   PetscBool ok = PETSC_FALSE;
@@ -233,6 +275,10 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
 
   PetscFunctionBeginUser;
   s->fallback_reason[0] = 0;
+  if (s->requested == BW_METHOD_CONDENSED) {
+    PetscCall(BwSolverCondensed(s, mx, log));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   if (s->requested != BW_METHOD_DIRECT) {
     PetscCall(BwSolverSetUpFieldsplit(s, mx));
     s->used = BW_METHOD_FIELDSPLIT;
@@ -258,7 +304,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwSolverGetIdlePrefixes(BwSolver s, PetscInt *n, const char *prefixes[3])
+PetscErrorCode BwSolverGetIdlePrefixes(BwSolver s, PetscInt *n, const char *prefixes[4])
 {
   PetscFunctionBeginUser;
   *n = 0;
@@ -268,5 +314,6 @@ PetscErrorCode BwSolverGetIdlePrefixes(BwSolver s, PetscInt *n, const char *pref
     prefixes[(*n)++] = "fieldsplit_";
   }
   if (!s->direct) prefixes[(*n)++] = "direct_";
+  if (!s->condensed) prefixes[(*n)++] = "condensed_";
   PetscFunctionReturn(PETSC_SUCCESS);
 }

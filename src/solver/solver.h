@@ -10,6 +10,9 @@
  *               -fieldsplit_r_*, -fieldsplit_q_*).
  *   direct      MUMPS LU of the whole system with iterative refinement
  *               (Richardson on the true residual). Prefix: -direct_.
+ *   condensed   the reference a benchmark compares with: S^ q~ = F^ + D^T b_r
+ *               by MUMPS Cholesky, then r~ = D^ q~ - b_r (the stresses recovered
+ *               from the displacements). Prefix: -condensed_. Not a fallback.
  *   auto        fieldsplit; if its KSP fails or the true residual of the
  *               full system misses solver.rtol, direct, and the reason is
  *               recorded.
@@ -20,7 +23,7 @@
 #include "system/mixed.h"
 #include "util/log.h"
 
-typedef enum { BW_METHOD_AUTO = 0, BW_METHOD_FIELDSPLIT = 1, BW_METHOD_DIRECT = 2 } BwMethod;
+typedef enum { BW_METHOD_AUTO = 0, BW_METHOD_FIELDSPLIT = 1, BW_METHOD_DIRECT = 2, BW_METHOD_CONDENSED = 3 } BwMethod;
 extern const char *const BwMethods[];
 
 typedef struct _n_BwSolver *BwSolver;
@@ -29,7 +32,7 @@ struct _n_BwSolver {
   BwMethod  requested;
   PetscReal rtol;
   PetscBool schur_gamg;
-  KSP       fieldsplit, direct;
+  KSP       fieldsplit, direct, condensed;
   /* outcome */
   BwMethod  used;
   PetscBool fallback;
@@ -47,5 +50,5 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene);
 PetscErrorCode BwSolverSolve(BwSolver solver, BwMixed mixed, BwLog *log);
 /* Option prefixes of paths that did not run (their options are legitimately
  * unused), for BwSceneCheckUnused. */
-PetscErrorCode BwSolverGetIdlePrefixes(BwSolver solver, PetscInt *n, const char *prefixes[3]);
+PetscErrorCode BwSolverGetIdlePrefixes(BwSolver solver, PetscInt *n, const char *prefixes[4]);
 PetscErrorCode BwSolverDestroy(BwSolver *solver);

@@ -248,27 +248,61 @@ static void BwSortRow(PetscInt n, PetscInt col[], PetscReal val[])
   }
 }
 
-/* The matrix from local CSR rows. On one rank PETSc takes the arrays as
- * they are (no copy, no second pass): they are kept in `keep` and freed with
- * the BwMixed. On more ranks PETSc splits them into its diagonal and
- * off-diagonal parts, which copies; the arrays are freed at once. */
+/* The matrix from local CSR rows (global column indices, sorted), used in
+ * place: on one rank as they are, on more split into the diagonal part
+ * (local column indices) and the off-diagonal part (global), the layout
+ * MPIAIJ keeps. PETSc does not copy them; they are freed with the BwMixed. */
 static PetscErrorCode BwMatFromCSR(BwMixed mx, PetscInt m, PetscInt n, PetscInt M, PetscInt N, const char prefix[], PetscInt *ia, PetscInt *ja, PetscReal *va, Mat *A)
 {
   PetscMPIInt size;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(mx->comm, &size));
+  PetscCheck(mx->nkeep + 6 <= 12, PETSC_COMM_SELF, PETSC_ERR_PLIB, "too many kept arrays");
   if (size == 1) {
     PetscCall(MatCreateSeqAIJWithArrays(mx->comm, m, n, ia, ja, va, A));
-    PetscCheck(mx->nkeep + 3 <= 6, PETSC_COMM_SELF, PETSC_ERR_PLIB, "too many kept arrays");
     mx->keep[mx->nkeep++] = ia;
     mx->keep[mx->nkeep++] = ja;
     mx->keep[mx->nkeep++] = va;
   } else {
-    PetscCall(MatCreateMPIAIJWithArrays(mx->comm, m, n, M, N, ia, ja, va, A));
+    PetscInt  cstart, *di, *dj, *oi, *oj, nd = 0, no = 0;
+    PetscReal *dv, *ov;
+    PetscCallMPI(MPI_Scan(&n, &cstart, 1, MPIU_INT, MPI_SUM, mx->comm));
+    cstart -= n;
+    for (PetscInt e = 0; e < ia[m]; e++) {
+      if (ja[e] >= cstart && ja[e] < cstart + n) nd++;
+      else no++;
+    }
+    PetscCall(PetscMalloc1(m + 1, &di));
+    PetscCall(PetscMalloc1(nd, &dj));
+    PetscCall(PetscMalloc1(nd, &dv));
+    PetscCall(PetscMalloc1(m + 1, &oi));
+    PetscCall(PetscMalloc1(no, &oj));
+    PetscCall(PetscMalloc1(no, &ov));
+    di[0] = oi[0] = 0;
+    for (PetscInt r = 0; r < m; r++) {
+      di[r + 1] = di[r];
+      oi[r + 1] = oi[r];
+      for (PetscInt e = ia[r]; e < ia[r + 1]; e++) {
+        if (ja[e] >= cstart && ja[e] < cstart + n) {
+          dj[di[r + 1]]   = ja[e] - cstart;
+          dv[di[r + 1]++] = va[e];
+        } else {
+          oj[oi[r + 1]]   = ja[e];
+          ov[oi[r + 1]++] = va[e];
+        }
+      }
+    }
     PetscCall(PetscFree(ia));
     PetscCall(PetscFree(ja));
     PetscCall(PetscFree(va));
+    PetscCall(MatCreateMPIAIJWithSplitArrays(mx->comm, m, n, M, N, di, dj, dv, oi, oj, ov, A));
+    mx->keep[mx->nkeep++] = di;
+    mx->keep[mx->nkeep++] = dj;
+    mx->keep[mx->nkeep++] = dv;
+    mx->keep[mx->nkeep++] = oi;
+    mx->keep[mx->nkeep++] = oj;
+    mx->keep[mx->nkeep++] = ov;
   }
   PetscCall(MatSetOptionsPrefix(*A, prefix));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -40,7 +40,7 @@ struct _n_BwMixed {
   /* the system: K = MatNest [-I, D^; D^T, 0] (or AIJ with mixed.storage aij) */
   PetscBool storage_aij;
   Mat K, D, S;
-  void    *keep[6]; /* CSR arrays a one-rank D^ and S^ use in place */
+  void    *keep[12]; /* CSR arrays D^ and S^ use in place */
   PetscInt nkeep;
   Vec x, b;
   IS  isr, isq;

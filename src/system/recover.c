@@ -20,11 +20,11 @@ typedef struct {
 static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
 {
   BwGeometry         geom = mx->geom;
-  PetscInt           m2 = 2 * mx->m, n, *from, nfree = 0;
+  PetscInt           m2 = 2 * mx->m, n, *from;
   IS                 isfrom;
   Vec                loc;
   VecScatter         sct;
-  const PetscScalar *a;
+  const PetscScalar *a, *xl;
   PetscReal         *d, *g;
 
   PetscFunctionBeginUser;
@@ -48,48 +48,66 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   }
   PetscCall(PetscSortRemoveDupsInt(&gh->nblk, gh->blks));
 
-  /* one scatter: stresses, then free dofs */
-  for (PetscInt e = 0; e < gh->nblk; e++)
-    for (PetscInt c = 0; c < 3; c++) nfree += mx->dof[3 * gh->blks[e] + c] >= 0;
-  PetscCall(PetscMalloc1(m2 * gh->nint + nfree, &from));
-  n = 0;
-  for (PetscInt e = 0; e < gh->nint; e++)
-    for (PetscInt p = 0; p < m2; p++) from[n++] = mx->stress[gh->ints[e]] + p;
-  for (PetscInt e = 0; e < gh->nblk; e++)
-    for (PetscInt c = 0; c < 3; c++)
-      if (mx->dof[3 * gh->blks[e] + c] >= 0) from[n++] = mx->dof[3 * gh->blks[e] + c];
-  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, from, PETSC_OWN_POINTER, &isfrom));
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &loc));
-  PetscCall(VecScatterCreate(x, isfrom, loc, NULL, &sct));
-  PetscCall(VecScatterBegin(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterDestroy(&sct));
-  PetscCall(ISDestroy(&isfrom));
+  /* Entries this rank holds are read in place; one scatter brings the
+   * others (none on one rank), in the order they are used below. */
+  {
+    PetscInt nremote = 0, lo = mx->rstart, hi = mx->rstart + mx->nlocal;
+    for (PetscInt e = 0; e < gh->nint; e++)
+      if (mx->stress[gh->ints[e]] < lo || mx->stress[gh->ints[e]] >= hi) nremote += m2;
+    for (PetscInt e = 0; e < gh->nblk; e++)
+      for (PetscInt c = 0; c < 3; c++) {
+        PetscInt row = mx->dof[3 * gh->blks[e] + c];
+        if (row >= 0 && (row < lo || row >= hi)) nremote++;
+      }
+    PetscCall(PetscMalloc1(nremote, &from));
+    n = 0;
+    for (PetscInt e = 0; e < gh->nint; e++)
+      if (mx->stress[gh->ints[e]] < lo || mx->stress[gh->ints[e]] >= hi)
+        for (PetscInt p = 0; p < m2; p++) from[n++] = mx->stress[gh->ints[e]] + p;
+    for (PetscInt e = 0; e < gh->nblk; e++)
+      for (PetscInt c = 0; c < 3; c++) {
+        PetscInt row = mx->dof[3 * gh->blks[e] + c];
+        if (row >= 0 && (row < lo || row >= hi)) from[n++] = row;
+      }
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, from, PETSC_OWN_POINTER, &isfrom));
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &loc));
+    PetscCall(VecScatterCreate(x, isfrom, loc, NULL, &sct));
+    PetscCall(VecScatterBegin(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterDestroy(&sct));
+    PetscCall(ISDestroy(&isfrom));
 
-  /* unscale */
-  PetscCall(PetscMalloc2(m2 * gh->nint, &gh->r, 3 * gh->nblk, &gh->q));
-  PetscCall(PetscMalloc2(6 * m2, &d, m2, &g));
-  PetscCall(VecGetArrayRead(loc, &a));
-  n = 0;
-  for (PetscInt e = 0; e < gh->nint; e++) {
-    PetscInt k = gh->ints[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
-    int      status;
-    bw_interface_operator(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, mx->model->kn[k], mx->model->kt[k], (int)mx->m, d, g, &status);
-    PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
-    for (PetscInt p = 0; p < m2; p++) gh->r[m2 * e + p] = PetscRealPart(a[n++]) / PetscSqrtReal(g[p]);
-  }
-  for (PetscInt e = 0; e < gh->nblk; e++) {
-    PetscInt         b = gh->blks[e];
-    const PetscReal *sc;
-    PetscCall(BwMixedQScale(mx, b, &sc));
-    for (PetscInt c = 0; c < 3; c++) {
-      if (mx->dof[3 * b + c] >= 0) {
-        gh->q[3 * e + c] = PetscRealPart(a[n++]) * sc[c];
-      } else gh->q[3 * e + c] = mx->model->value[3 * b + c];
+    /* unscale */
+    PetscCall(PetscMalloc2(m2 * gh->nint, &gh->r, 3 * gh->nblk, &gh->q));
+    PetscCall(PetscMalloc2(6 * m2, &d, m2, &g));
+    PetscCall(VecGetArrayRead(loc, &a));
+    PetscCall(VecGetArrayRead(x, &xl));
+    n = 0;
+    for (PetscInt e = 0; e < gh->nint; e++) {
+      PetscInt           k = gh->ints[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1], row = mx->stress[k];
+      PetscBool          mine = row >= lo && row < hi;
+      const PetscScalar *src  = mine ? xl + (row - lo) : a + n;
+      int                status;
+      bw_interface_operator(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, mx->model->kn[k], mx->model->kt[k], (int)mx->m, d, g, &status);
+      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+      for (PetscInt p = 0; p < m2; p++) gh->r[m2 * e + p] = PetscRealPart(src[p]) / PetscSqrtReal(g[p]);
+      if (!mine) n += m2;
     }
+    for (PetscInt e = 0; e < gh->nblk; e++) {
+      PetscInt         b = gh->blks[e];
+      const PetscReal *sc;
+      PetscCall(BwMixedQScale(mx, b, &sc));
+      for (PetscInt c = 0; c < 3; c++) {
+        PetscInt row = mx->dof[3 * b + c];
+        if (row < 0) gh->q[3 * e + c] = mx->model->value[3 * b + c];
+        else if (row >= lo && row < hi) gh->q[3 * e + c] = PetscRealPart(xl[row - lo]) * sc[c];
+        else gh->q[3 * e + c] = PetscRealPart(a[n++]) * sc[c];
+      }
+    }
+    PetscCall(VecRestoreArrayRead(x, &xl));
+    PetscCall(VecRestoreArrayRead(loc, &a));
+    PetscCall(VecDestroy(&loc));
   }
-  PetscCall(VecRestoreArrayRead(loc, &a));
-  PetscCall(VecDestroy(&loc));
   PetscCall(PetscFree2(d, g));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
