@@ -43,15 +43,18 @@ static PetscErrorCode BwSolverDefault(BwSolver s, const char name[], const char 
 
 PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
 {
-  PetscInt                 method = s->requested, schur = 0;
-  static const char *const schurs[] = {"cholesky", "gamg", "BwSchur", "BW_SCHUR_", NULL};
+  PetscInt                 method = s->requested, schur = 0, storage = 0;
+  static const char *const schurs[]   = {"cholesky", "gamg", "BwSchur", "BW_SCHUR_", NULL};
+  static const char *const storages[] = {"nest", "aij", "BwStorage", "BW_STORAGE_", NULL};
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(s->comm, NULL, "Solver (scene key solver.*)", NULL);
   PetscCall(PetscOptionsEList("-solver_method", "auto (fieldsplit, MUMPS on failure), fieldsplit, direct, or condensed (benchmark reference)", NULL, BwMethods, 4, BwMethods[method], &method, NULL));
   PetscCall(PetscOptionsReal("-solver_rtol", "Required relative true residual of the full mixed system (scaled)", NULL, s->rtol, &s->rtol, NULL));
   PetscCall(PetscOptionsEList("-solver_schur", "Schur complement solve of fieldsplit: cholesky (MUMPS) or gamg (CG+GAMG)", NULL, schurs, 2, schurs[schur], &schur, NULL));
+  PetscCall(PetscOptionsEList("-solver_storage", "Saddle operator storage: nest (-I, D^, virtual D^T) or aij (one assembled matrix)", NULL, storages, 2, storages[storage], &storage, NULL));
   PetscOptionsEnd();
+  s->storage_aij = storage == 1 ? PETSC_TRUE : PETSC_FALSE;
   if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
   s->requested  = (BwMethod)method;
   s->schur_gamg = schur == 1 ? PETSC_TRUE : PETSC_FALSE;

@@ -32,6 +32,7 @@ struct _n_BwSolver {
   BwMethod  requested;
   PetscReal rtol;
   PetscBool schur_gamg;
+  PetscBool storage_aij; /* solver.storage: the saddle operator as one AIJ */
   KSP       fieldsplit, direct, condensed;
   /* outcome */
   BwMethod  used;

@@ -105,14 +105,6 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     PetscCall(PetscFree(fill));
   }
   *mixed = mx; /* from here on, BwMixedDestroy cleans up after an error */
-  {
-    static const char *const storages[] = {"nest", "aij", "BwStorage", "BW_STORAGE_", NULL};
-    PetscInt                 storage    = 0;
-    PetscOptionsBegin(mx->comm, NULL, "Mixed system", NULL);
-    PetscCall(PetscOptionsEList("-solver_storage", "Storage of the saddle-point operator: nest (-I, D^, virtual D^T) or aij (one assembled matrix)", NULL, storages, 2, storages[storage], &storage, NULL));
-    PetscOptionsEnd();
-    mx->storage_aij = storage == 1 ? PETSC_TRUE : PETSC_FALSE;
-  }
   PetscCall(BwMixedCheckRestraint(mx));
 
   /* owners */

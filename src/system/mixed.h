@@ -38,7 +38,7 @@ struct _n_BwMixed {
   /* 1/sqrt(diag S) per block dof, computed on demand (< 0: not yet) */
   PetscReal *qscale;
   /* the system: K = MatNest [-I, D^; D^T, 0] (or AIJ with mixed.storage aij) */
-  PetscBool storage_aij;
+  PetscBool storage_aij; /* set before BwMixedAssemble */
   Mat K, D, S;
   void    *keep[12]; /* CSR arrays D^ and S^ use in place */
   PetscInt nkeep;
