@@ -100,7 +100,7 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   PetscCall(BwLogBegin(&log, BW_PHASE_ASSEMBLE));
   PetscCall(BwMixedCreate(run->model, owner, &run->mixed));
   PetscCall(PetscFree(owner));
-  run->mixed->storage_aij = run->solver->storage_aij;
+  run->mixed->storage = run->solver->storage;
   PetscCall(BwMixedAssemble(run->mixed));
   PetscCall(BwLogEnd(&log, BW_PHASE_ASSEMBLE));
 

@@ -370,15 +370,12 @@ static PetscErrorCode BwFileExplicitInterfaces(BwGeometry g, BwFileData *d, cons
 static PetscErrorCode BwFileBuild(BwGeometry g, BwFileData *d, PetscReal thickness)
 {
   BwTolerance tol;
-  PetscReal  *poly;
-  PetscInt    maxnv = 0;
 
   PetscFunctionBeginUser;
   PetscCall(BwFileRead(d));
   PetscCall(BwFileCheckIndices(d));
   /* finite coordinates first: the tolerances are computed from them */
   for (PetscInt b = 0; b < d->nb; b++) {
-    maxnv = PetscMax(maxnv, (PetscInt)(d->offsets[b + 1] - d->offsets[b]));
     for (int64_t v = d->offsets[b]; v < d->offsets[b + 1]; v++)
       PetscCheck(!PetscIsInfOrNanReal(d->xy[2 * v]) && !PetscIsInfOrNanReal(d->xy[2 * v + 1]), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT ": vertex row %lld is not finite (%g, %g)", d->path, b, (long long)v, (double)d->xy[2 * v], (double)d->xy[2 * v + 1]);
   }
@@ -389,20 +386,12 @@ static PetscErrorCode BwFileBuild(BwGeometry g, BwFileData *d, PetscReal thickne
     PetscCall(BwToleranceCompute(d->nv, d->xy, d->nb, off, thickness, &tol));
     PetscCall(PetscFree(off));
   }
-  PetscCall(PetscMalloc1(2 * maxnv + 1, &poly));
+  /* checked and reoriented in place: the raw buffer is ours */
   for (PetscInt b = 0; b < d->nb; b++) {
-    PetscInt  first = (PetscInt)d->offsets[b], nv = (PetscInt)(d->offsets[b + 1] - d->offsets[b]);
-    PetscBool reversed;
-    PetscErrorCode ierr;
-    PetscCall(PetscArraycpy(poly, d->xy + 2 * first, 2 * nv));
-    ierr = BwValidatePolygon(d->path, b, first, nv, poly, &tol, &reversed);
-    if (ierr) {
-      PetscCall(PetscFree(poly));
-      return ierr;
-    }
-    PetscCall(BwGeometryAddBlock(g, nv, poly, NULL));
+    PetscInt first = (PetscInt)d->offsets[b], nv = (PetscInt)(d->offsets[b + 1] - d->offsets[b]);
+    PetscCall(BwValidatePolygon(d->path, b, first, nv, d->xy + 2 * first, &tol));
+    PetscCall(BwGeometryAddBlock(g, nv, d->xy + 2 * first, NULL));
   }
-  PetscCall(PetscFree(poly));
   PetscCall(BwGeometryComputeCentroids(g));
   PetscCall(BwValidateOverlaps(d->path, g, &tol));
   if (d->has_pairs) PetscCall(BwFileExplicitInterfaces(g, d, &tol));

@@ -1,8 +1,9 @@
 /* Checks of a block assembly read from a file: each defect is one line
  * naming the file, the dataset and the block, and the first one found wins.
  *
- * Polygons (per block, O(n^2) in its vertex count n, which is small):
- *   finite coordinates; at least 3 vertices; consecutive vertices (and the
+ * Polygons (per block, O(n^2) in its vertex count n, which is small; their
+ *   coordinates were found finite before the tolerances were computed):
+ *   at least 3 vertices; consecutive vertices (and the
  *   last and the first) more than delta apart; non-adjacent edges more than
  *   delta apart (else the polygon crosses itself; this also catches edges
  *   folding back onto their neighbour, whose far end then touches the edge
@@ -18,7 +19,11 @@
  * clipping when neither block is convex. They overlap when that area
  * exceeds delta * (smaller perimeter): faces pressed into each other by
  * less than delta are touching, not overlapping.
- * Connection: every block has an interface (with more than one block). */
+ * Connection: every block has an interface (with more than one block). A
+ * block that touches nothing is almost always a gap drawn wider than e, and
+ * would otherwise surface later as "not restrained" or as a block that
+ * carries its own load alone. Separate groups of several blocks are
+ * allowed (two walls in one file); restraint.c requires each to be held. */
 #include "geometry/validate.h"
 #include "util/compat.h"
 
@@ -42,16 +47,13 @@ static PetscReal BwSegmentSegment(const PetscReal a0[2], const PetscReal a1[2], 
   return PetscMin(PetscMin(BwPointSegment(a0, b0, b1), BwPointSegment(a1, b0, b1)), PetscMin(BwPointSegment(b0, a0, a1), BwPointSegment(b1, a0, a1)));
 }
 
-PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, PetscInt nv, PetscReal xy[], const BwTolerance *tol, PetscBool *reversed)
+PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, PetscInt nv, PetscReal xy[], const BwTolerance *tol)
 {
   const PetscReal d = tol->delta;
   PetscReal       area = 0, perimeter = 0;
 
   PetscFunctionBeginUser;
-  *reversed = PETSC_FALSE;
   PetscCheck(nv >= 3, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/offsets: block %" PetscInt_FMT " has %" PetscInt_FMT " vertices (rows %" PetscInt_FMT "..%" PetscInt_FMT " of /blocks/vertices); a polygon needs at least 3", file, b, nv, first, first + nv - 1);
-  for (PetscInt k = 0; k < nv; k++)
-    PetscCheck(!PetscIsInfOrNanReal(xy[2 * k]) && !PetscIsInfOrNanReal(xy[2 * k + 1]), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT ": vertex row %" PetscInt_FMT " is not finite (%g, %g)", file, b, first + k, (double)xy[2 * k], (double)xy[2 * k + 1]);
   for (PetscInt k = 0; k < nv; k++) {
     PetscInt  k1 = (k + 1) % nv;
     PetscReal l  = PetscSqrtReal(PetscSqr(xy[2 * k1] - xy[2 * k]) + PetscSqr(xy[2 * k1 + 1] - xy[2 * k + 1]));
@@ -82,7 +84,6 @@ PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, 
         xy[2 * k + c]   = xy[2 * l + c];
         xy[2 * l + c]   = s;
       }
-    *reversed = PETSC_TRUE;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -240,6 +241,18 @@ static PetscErrorCode BwIntersectionArea(BwGeometry g, PetscInt A, PetscInt B, c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscErrorCode BwClipWorkFree(BwClipWork *w)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(w->s.a));
+  PetscCall(PetscFree(w->w0.a));
+  PetscCall(PetscFree(w->w1.a));
+  PetscCall(PetscFree(w->c.a));
+  PetscCall(PetscFree(w->tri.a));
+  PetscCall(PetscFree(w->idx.a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 typedef struct {
   const PetscReal *box; /* xmin, ymin, xmax, ymax per block */
 } BwBoxShapeCtx;
@@ -297,18 +310,14 @@ PetscErrorCode BwValidateOverlaps(const char file[], BwGeometry g, const BwToler
         PetscInt small = g->area[a] <= g->area[b] ? a : b;
         PetscCall(BwGridDestroy(&grid));
         PetscCall(PetscFree3(box, perimeter, convex));
+        PetscCall(BwClipWorkFree(&w));
         SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %.4g m^2, %.3g%% of block %" PetscInt_FMT, file, a, b, (double)area, (double)(100 * area / g->area[small]), small);
       }
     }
   }
   PetscCall(BwGridDestroy(&grid));
   PetscCall(PetscFree3(box, perimeter, convex));
-  PetscCall(PetscFree(w.s.a));
-  PetscCall(PetscFree(w.w0.a));
-  PetscCall(PetscFree(w.w1.a));
-  PetscCall(PetscFree(w.c.a));
-  PetscCall(PetscFree(w.tri.a));
-  PetscCall(PetscFree(w.idx.a));
+  PetscCall(BwClipWorkFree(&w));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -27,11 +27,11 @@ PetscErrorCode BwToleranceCompute(PetscInt nvertices, const PetscReal xy[], Pets
 /* ---- validate.c: every check raises PETSC_ERR_USER_INPUT with one line
  * "FILE: DATASET: block/interface K ..." ------------------------------- */
 
-/* One polygon (nv vertices xy, block b, vertices first.. in the file):
- * fewer than 3 vertices, non-finite or coinciding consecutive vertices,
- * crossing or touching edges, zero area. A clockwise polygon is
- * reversed in place (vertex 0 stays first); *reversed says so. */
-PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, PetscInt nv, PetscReal xy[], const BwTolerance *tol, PetscBool *reversed);
+/* One polygon (nv finite vertices xy, block b, vertex rows first.. in the
+ * file): fewer than 3 vertices, coinciding consecutive vertices, crossing
+ * or touching edges, zero area. A clockwise polygon is reversed in place
+ * (vertex 0 stays first). */
+PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, PetscInt nv, PetscReal xy[], const BwTolerance *tol);
 /* Blocks whose interiors share more than delta * (smaller perimeter) of area. */
 PetscErrorCode BwValidateOverlaps(const char file[], BwGeometry g, const BwTolerance *tol);
 /* Every block has at least one interface; `detected` adds the detection

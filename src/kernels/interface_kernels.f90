@@ -24,7 +24,7 @@ module bw_interface_kernels
   implicit none
   private
   public :: bw_interface_operator, bw_interface_stiffness, bw_interface_recover, &
-            bw_interface_stress
+            bw_interface_stress, bw_interface_compatibility
 
   integer(c_int), parameter, public :: BW_KERNEL_OK = 0, BW_KERNEL_BAD_M = 1, &
        BW_KERNEL_BAD_LENGTH = 2, BW_KERNEL_BAD_DEPTH = 3, BW_KERNEL_BAD_STIFFNESS = 4
@@ -82,6 +82,18 @@ contains
     real(c_double) :: x
     x = length * ((real(p, c_double) - 0.5_c_double) / real(m, c_double) - 0.5_c_double)
   end function portion_midpoint
+
+  !> R B (C: double rb[3][6]): relative displacement (dt, dn, phi) at G per
+  !! unit dof of the two blocks; D_k = H^T (R B) without the portions.
+  pure subroutine bw_interface_compatibility(ci, cj, gc, theta, rb, status) &
+       bind(C, name="bw_interface_compatibility")
+    real(c_double), intent(in) :: ci(2), cj(2), gc(2)
+    real(c_double), value, intent(in) :: theta
+    real(c_double), intent(out) :: rb(6, 3)
+    integer(c_int), intent(out) :: status
+    status = BW_KERNEL_OK
+    rb = transpose(rotated_compatibility(ci, cj, gc, theta))
+  end subroutine bw_interface_compatibility
 
   !> D_k = H^T R B (C: double d[2m][6]) and the compliance diagonal g (2m).
   pure subroutine bw_interface_operator(ci, cj, gc, theta, length, depth, kn, kt, m, d, g, status) &

@@ -32,7 +32,7 @@ struct _n_BwSolver {
   BwMethod  requested;
   PetscReal rtol;
   PetscBool schur_gamg;
-  PetscBool storage_aij; /* solver.storage: the saddle operator as one AIJ */
+  BwStorage storage; /* solver.storage */
   KSP       fieldsplit, direct, condensed;
   /* outcome */
   BwMethod  used;

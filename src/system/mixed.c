@@ -303,7 +303,7 @@ static PetscErrorCode BwMatFromCSR(BwMixed mx, PetscInt m, PetscInt n, PetscInt 
 /* Rows of D^ for the owned interfaces, built directly in CSR: a stress row
  * has one entry per free dof of the interface's two blocks. Also fills the
  * stress rows of the right-hand side (prescribed values lifted). */
-static PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscScalar bb[])
+static PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscScalar bb[], Mat *D)
 {
   BwGeometry geom = mx->geom;
   PetscInt   m2 = 2 * mx->m, *ia, *ja, n = 0;
@@ -339,11 +339,11 @@ static PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscScalar bb[])
         } else rhs -= w * d[6 * p + c] * mx->model->value[3 * blk + c % 3];
       }
       BwSortRow(at - ia[n], ja + ia[n], va + ia[n]);
-      bb[mx->stress[k] + p - mx->rstart] = rhs;
+      if (bb) bb[mx->stress[k] + p - mx->rstart] = rhs;
     }
   }
   PetscCall(PetscFree2(d, g));
-  PetscCall(BwMatFromCSR(mx, mx->nr_local, mx->nq_local, mx->nr_global, mx->nq_global, "mixed_D_", ia, ja, va, &mx->D));
+  PetscCall(BwMatFromCSR(mx, mx->nr_local, mx->nq_local, mx->nr_global, mx->nq_global, "mixed_D_", ia, ja, va, D));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -429,41 +429,52 @@ static PetscErrorCode BwMixedAssembleS(BwMixed mx, PetscScalar bb[])
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwMixedAssemble(BwMixed mx)
+const char *const BwStorages[] = {"shell", "nest", "aij", "BwStorage", "BW_STORAGE_", NULL};
+
+/* K = [-I, D; D^T, 0] as a MatNest around the given D. */
+static PetscErrorCode BwMixedNest(BwMixed mx, Mat D, Mat *K)
 {
-  PetscScalar *bb;
-  Mat          A00, A11, Dt, blocks[4];
-  IS           is[2];
+  Mat A00, A11, Dt, blocks[4];
+  IS  is[2];
 
   PetscFunctionBeginUser;
-  PetscCall(VecCreateMPI(mx->comm, mx->nlocal, PETSC_DETERMINE, &mx->b));
-  PetscCall(VecDuplicate(mx->b, &mx->x));
-  PetscCall(VecGetArray(mx->b, &bb));
-  PetscCall(BwMixedAssembleD(mx, bb));
-  PetscCall(BwMixedAssembleS(mx, bb));
-  PetscCall(VecRestoreArray(mx->b, &bb));
-  PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
-  PetscCall(MatSetOption(mx->S, MAT_SPD_ETERNAL, PETSC_TRUE));
-
-  PetscCall(ISCreateStride(mx->comm, mx->nr_local, mx->rstart, 1, &mx->isr));
-  PetscCall(ISCreateStride(mx->comm, mx->nq_local, mx->rstart + mx->nr_local, 1, &mx->isq));
   PetscCall(MatCreateConstantDiagonal(mx->comm, mx->nr_local, mx->nr_local, mx->nr_global, mx->nr_global, -1.0, &A00));
-  PetscCall(MatCreateTranspose(mx->D, &Dt));
+  PetscCall(MatCreateTranspose(D, &Dt));
   PetscCall(BwMixedCreateAIJ(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "mixed_zero_", &A11));
   PetscCall(MatXAIJSetPreallocation(A11, 1, NULL, NULL, NULL, NULL));
   PetscCall(MatAssemblyBegin(A11, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(A11, MAT_FINAL_ASSEMBLY));
   blocks[0] = A00;
-  blocks[1] = mx->D;
+  blocks[1] = D;
   blocks[2] = Dt;
   blocks[3] = A11;
   is[0]     = mx->isr;
   is[1]     = mx->isq;
-  PetscCall(MatCreateNest(mx->comm, 2, is, 2, is, blocks, &mx->K));
+  PetscCall(MatCreateNest(mx->comm, 2, is, 2, is, blocks, K));
   PetscCall(MatDestroy(&A00));
   PetscCall(MatDestroy(&Dt));
   PetscCall(MatDestroy(&A11));
-  if (mx->storage_aij) {
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedAssemble(BwMixed mx)
+{
+  PetscScalar *bb;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCreateMPI(mx->comm, mx->nlocal, PETSC_DETERMINE, &mx->b));
+  PetscCall(VecDuplicate(mx->b, &mx->x));
+  PetscCall(VecGetArray(mx->b, &bb));
+  if (mx->storage == BW_STORAGE_SHELL) PetscCall(BwMixedCreateDShell(mx, bb, &mx->D));
+  else PetscCall(BwMixedAssembleD(mx, bb, &mx->D));
+  PetscCall(BwMixedAssembleS(mx, bb));
+  PetscCall(VecRestoreArray(mx->b, &bb));
+  PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
+  PetscCall(MatSetOption(mx->S, MAT_SPD_ETERNAL, PETSC_TRUE));
+  PetscCall(ISCreateStride(mx->comm, mx->nr_local, mx->rstart, 1, &mx->isr));
+  PetscCall(ISCreateStride(mx->comm, mx->nq_local, mx->rstart + mx->nr_local, 1, &mx->isq));
+  PetscCall(BwMixedNest(mx, mx->D, &mx->K));
+  if (mx->storage == BW_STORAGE_AIJ) {
     Mat aij;
     PetscCall(BwMixedGetAIJ(mx, &aij));
     PetscCall(MatDestroy(&mx->K));
@@ -474,14 +485,23 @@ PetscErrorCode BwMixedAssemble(BwMixed mx)
 
 PetscErrorCode BwMixedGetAIJ(BwMixed mx, Mat *aij)
 {
-  PetscBool isaij;
+  PetscBool isaij, shell;
 
   PetscFunctionBeginUser;
   PetscCall(PetscObjectTypeCompare((PetscObject)mx->K, MATMPIAIJ, &isaij));
   if (!isaij) PetscCall(PetscObjectTypeCompare((PetscObject)mx->K, MATSEQAIJ, &isaij));
+  PetscCall(PetscObjectTypeCompare((PetscObject)mx->D, MATSHELL, &shell));
   if (isaij) {
     PetscCall(PetscObjectReference((PetscObject)mx->K));
     *aij = mx->K;
+  } else if (shell) {
+    /* MUMPS needs entries: D^ assembled for the occasion */
+    Mat D, K;
+    PetscCall(BwMixedAssembleD(mx, NULL, &D));
+    PetscCall(BwMixedNest(mx, D, &K));
+    PetscCall(MatConvert(K, MATAIJ, MAT_INITIAL_MATRIX, aij));
+    PetscCall(MatDestroy(&K));
+    PetscCall(MatDestroy(&D));
   } else PetscCall(MatConvert(mx->K, MATAIJ, MAT_INITIAL_MATRIX, aij));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -19,6 +19,9 @@
 #include <petscksp.h>
 #include "model/model.h"
 
+typedef enum { BW_STORAGE_SHELL = 0, BW_STORAGE_NEST = 1, BW_STORAGE_AIJ = 2 } BwStorage;
+extern const char *const BwStorages[];
+
 typedef struct _n_BwMixed *BwMixed;
 struct _n_BwMixed {
   MPI_Comm   comm;
@@ -37,8 +40,9 @@ struct _n_BwMixed {
   PetscInt *adj_offsets, *adj;
   /* 1/sqrt(diag S) per block dof, computed on demand (< 0: not yet) */
   PetscReal *qscale;
-  /* the system: K = MatNest [-I, D^; D^T, 0] (or AIJ with mixed.storage aij) */
-  PetscBool storage_aij; /* set before BwMixedAssemble */
+  /* the system: K = MatNest [-I, D^; D^T, 0] with D^ a shell or AIJ, or
+   * one AIJ matrix (solver.storage); set storage before BwMixedAssemble */
+  BwStorage storage;
   Mat K, D, S;
   void    *keep[12]; /* CSR arrays D^ and S^ use in place */
   PetscInt nkeep;
@@ -54,6 +58,8 @@ PetscErrorCode BwPartitionBlocks(BwModel model, PetscMPIInt **owner);
 PetscErrorCode BwMixedAssemble(BwMixed mixed);
 /* 1/sqrt(diag S) of block b's three dofs (computed on first use, cached). */
 PetscErrorCode BwMixedQScale(BwMixed mixed, PetscInt b, const PetscReal **scale);
+/* D^ as a shell (dshell.c); fills the stress rows of the right-hand side. */
+PetscErrorCode BwMixedCreateDShell(BwMixed mixed, PetscScalar bb[], Mat *D);
 /* K as one AIJ matrix (a new reference if it already is one), for MUMPS. */
 PetscErrorCode BwMixedGetAIJ(BwMixed mixed, Mat *aij);
 /* Error naming the blocks that can move freely (called by BwMixedCreate). */

@@ -29,12 +29,16 @@
  *    other singularity, is what BwMixedCheckMechanism finds numerically when
  *    a solver reports one.
  * 3. BwMixedCheckMechanism: inverse iteration on the scaled Schur complement
- *    S^ (unit diagonal), shifted by 1e-10 ||S^|| so that it can be factored:
- *    four steps from a fixed start vector bring out the eigenvector of the
- *    smallest eigenvalue (a mechanism's 0 against a few 1e-3 or more); a
- *    Rayleigh quotient below 1e-11 ||S^|| means S^ is singular to working
- *    precision, and that eigenvector is the free motion, reported block by
- *    block as a rotation about a point or a translation. */
+ *    S^ (unit diagonal), shifted by sigma = 1e-10 ||S^|| so that it can be
+ *    factored. Each step shrinks the other eigen-directions against the
+ *    smallest by (lambda_1 + sigma)/(lambda_2 + sigma): for a mechanism
+ *    (lambda_1 = 0) and even a soft assembly's lambda_2 = 1e-6, four steps
+ *    from a fixed start vector leave 1e-16. A Rayleigh quotient below
+ *    1e-11 ||S^|| means S^ is singular to working precision; the eigenvector
+ *    is the free motion, reported block by block as a rotation about a
+ *    point or a translation. It costs one more Cholesky factorisation of
+ *    S^, so it runs when something asks: a solver that meets null pivots
+ *    or a breakdown, or an m = 1 assembly, where 1-2 are not exact. */
 #include <petscksp.h>
 #include "system/mixed.h"
 #include "util/compat.h"

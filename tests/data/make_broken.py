@@ -1,7 +1,7 @@
-"""The corpus of broken geometry files in tests/data/broken/, one defect
-each, and what blockwall's one error line must say about it.
+"""The corpus of broken geometry files, tests/data/broken_<case>.h5, one
+defect each, and what blockwall's one error line must say about it.
 
-    python3 tests/data/make_broken.py [DIR]      (DIR: tests/data/broken)
+    python3 tests/data/make_broken.py [DIR]      (DIR: tests/data)
 
 rewrites the files; tests/geometry/check_broken.py runs blockwall on each
 (scene: geometry.generator file, mortar joints e = 0.01) and checks the exit
@@ -127,12 +127,16 @@ def write(path, datasets, attrs):
             f.attrs[k] = v
 
 
+def path(out, name):
+    return os.path.join(out, f"broken_{name}.h5")
+
+
 def main(out):
     os.makedirs(out, exist_ok=True)
     for name, (datasets, attrs, _) in CASES.items():
-        write(os.path.join(out, f"{name}.h5"), datasets, attrs)
-    print(f"{len(CASES)} files in {out}")
+        write(path(out, name), datasets, attrs)
+    print(f"{len(CASES)} files broken_*.h5 in {out}")
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "broken"))
+    main(sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__)))

@@ -1,4 +1,4 @@
-"""Broken geometry files (tests/data/broken, made by tests/data/make_broken.py):
+"""Broken geometry files (tests/data/broken_*.h5, made by tests/data/make_broken.py):
 blockwall exits non-zero with one line on stderr that names the file and
 says what is wrong where (make_broken.CASES), and no output file is created
 or changed (as tests/errors/check_errors.py).
@@ -19,7 +19,6 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "data")
-BROKEN = os.path.join(DATA, "broken")
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, DATA)
 sys.path.insert(0, HERE)
@@ -76,10 +75,11 @@ def same_file(a, b):
 def current():
     with tempfile.TemporaryDirectory() as tmp:
         make_broken.main(tmp)
-        fresh, committed = sorted(os.listdir(tmp)), sorted(os.listdir(BROKEN))
-        expect(fresh == committed, f"tests/data/broken differs from make_broken.py: {set(fresh) ^ set(committed)}")
+        fresh = sorted(os.listdir(tmp))
+        committed = sorted(f for f in os.listdir(DATA) if f.startswith("broken_") and f.endswith(".h5"))
+        expect(fresh == committed, f"tests/data/broken_*.h5 differ from make_broken.py: {set(fresh) ^ set(committed)}")
         for f in fresh:
-            expect(same_file(os.path.join(tmp, f), os.path.join(BROKEN, f)), f"tests/data/broken/{f} is not what make_broken.py writes")
+            expect(same_file(os.path.join(tmp, f), os.path.join(DATA, f)), f"tests/data/{f} is not what make_broken.py writes")
     expect(len(committed) >= 25, f"only {len(committed)} broken files")
     print(f"{len(committed)} broken files, as make_broken.py writes them")
 
@@ -90,9 +90,9 @@ if __name__ == "__main__":
         if case == "current":
             current()
         elif case == "missing_file":
-            check(case, os.path.join(BROKEN, "does_not_exist.h5"), ["geometry.file", "cannot read", "No such file"])
+            check(case, make_broken.path(DATA, "does_not_exist"), ["geometry.file", "cannot read", "No such file"])
         else:
-            check(case, os.path.join(BROKEN, f"{case}.h5"), make_broken.CASES[case][2], int(sys.argv[2]) if len(sys.argv) > 2 else 1)
+            check(case, make_broken.path(DATA, case), make_broken.CASES[case][2], int(sys.argv[2]) if len(sys.argv) > 2 else 1)
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)

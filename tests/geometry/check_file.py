@@ -13,6 +13,10 @@
   ranks         a wall from a file on 1 and 3 ranks: same results to 1e-10
   depth         the root attribute depth overrides geometry.depth: stresses
                 scale by 1/s
+  dry           dry joints (e = 0, blocks touching): two blocks against the
+                closed form with kn, kt given and lever arm a/2; a dry
+                running-bond wall detected from a file has the generator's
+                interfaces (corners touching at a point are not interfaces)
 """
 import os
 import shutil
@@ -157,6 +161,42 @@ def depth():
     e = rel_err(res[1]["interfaces/stress"], res[0]["interfaces/stress"] * 0.1 / 0.25)
     expect(e < 1e-10, f"stresses with depth 0.25 vs 0.1: {e:.1e}")
     print(f"root attribute depth 0.25 overrides geometry.depth 0.1: stresses scale by 0.4 to {e:.1e}")
+
+
+def dry():
+    l, a, s, kn, kt, m, (f1, f2, m3) = 0.2, 0.1, 0.1, 1e11, 4e10, 16, (1000.0, -1000.0, 50.0)
+    dry_law = {"law": "dry", "kn": kn, "kt": kt}
+    with tempfile.TemporaryDirectory() as tmp:
+        blocks, _, sets = geomlib.two_blocks(e=0.0)
+        geomlib.write_geometry(os.path.join(tmp, "g.h5"), blocks, sets=sets)
+        scene = os.path.join(tmp, "s.yaml")
+        geomlib.write_scene(scene, "g.h5", joints=dry_law, supports={"bottom": {"u1": 0, "u2": 0, "w": 0}},
+                            loads={"top": (f1, f2, m3)}, m=m)
+        res = solve(scene)
+        # model.md with e = 0: G on the shared face, lever arm a/2 to the top centroid
+        area, inertia, h = l * s, s * l**3 / 12, a / 2
+        phi = (m3 - h * f1) / (kn * inertia * (1 - 1 / m**2))
+        q_ref = np.array([f1 / (kt * area) - phi * h, f2 / (kn * area), phi])
+        e = rel_err(res["blocks/displacement"][1], q_ref)
+        expect(e < 1e-10, f"dry two blocks: {res['blocks/displacement'][1]} vs closed form {q_ref}: {e:.1e}")
+        expect(abs(res["interfaces/center"][0][1] - a) < 1e-15, f"dry G = {res['interfaces/center'][0]}")
+        print(f"dry two blocks (e = 0) from a file: displacement vs closed form {e:.1e}")
+        gen = ["-geometry_generator", "running_bond", "-geometry_running_bond_courses", 7,
+               "-geometry_running_bond_units_per_course", 6, "-joints_law", "dry", "-joints_kn", kn, "-joints_kt", kt]
+        wall_scene = os.path.join(tmp, "w.yaml")
+        geomlib.write_scene(wall_scene, "unused.h5", joints=dry_law)
+        code, out, err, want = geomlib.geometry_only(wall_scene, gen, dump=os.path.join(tmp, "gen.h5"))
+        expect(code == 0, f"running_bond, dry: {err}")
+        with h5py.File(os.path.join(tmp, "gen.h5"), "r") as f:
+            geomlib.write_geometry(os.path.join(tmp, "dw.h5"), [f["blocks/vertices"][()][o0:o1] for o0, o1 in
+                                                                 zip(f["blocks/offsets"][()][:-1], f["blocks/offsets"][()][1:])])
+        geomlib.write_scene(wall_scene, "dw.h5", joints=dry_law)
+        code, out, err, got = geomlib.geometry_only(wall_scene, dump=os.path.join(tmp, "det.h5"))
+        expect(code == 0, f"dry wall from a file: {err}")
+        expect(np.array_equal(got["interfaces/blocks"], want["interfaces/blocks"]), "dry wall: detected pairs differ from running_bond's")
+        e = max(rel_err(got["interfaces/center"], want["interfaces/center"]), rel_err(got["interfaces/length"], want["interfaces/length"]))
+        expect(e < 1e-12, f"dry wall: G, l differ by {e:.1e}")
+        print(f"dry running-bond wall from a file: the generator's {len(want['interfaces/blocks'])} interfaces, within {e:.1e}")
 
 
 if __name__ == "__main__":

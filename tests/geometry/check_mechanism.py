@@ -14,6 +14,16 @@ line on stderr and nothing written; assemblies just short of that solve.
                with no support: blocks 2, 3 have no path to a support
   arch_m1      the 9-voussoir arch with m = 1: 27 free dofs against 20 hinge
                equations, at least 7 free motions
+  four_bar     a parallelogram four-bar from a file with m = 1 -- two posts on
+               the ground, a beam across them, and beside it a comb standing
+               on the ground on three feet (three interfaces with it): 12 free
+               dofs, 14 hinge equations, no block on a single hinge, so the
+               static checks pass, and a vertical load on the beam does no
+               work on the sway, so a solver can return an answer with any
+               amount of it. BwMixedCheckMechanism (test_mechanism scene,
+               the hook for the solver) names the posts and the beam and their
+               motions: rotations about the posts' feet, a translation along
+               x; with m = 2 it finds none.
   sound        controls that must solve: the two blocks held by u1, u2 of the
                bottom block and w of the top one (restrained, no dof twice);
                a running-bond wall with m = 1 (every unit on two or more
@@ -100,6 +110,30 @@ def arch_m1():
         geomlib.write_scene(scene, "a.h5", supports={"springers": {"u1": 0, "u2": 0, "w": 0}}, loads={"crown": (0, -5e4, 0)}, m=1)
         refused("arch_m1", scene, [], ["mechanism", "blocks 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10 (11 blocks)",
                                        "27 free dofs against 20 hinge constraints", "at least 7 independent rotations"])
+
+
+def four_bar():
+    import subprocess
+    from bwrun import ENV, EXE
+    R = geomlib.rect
+    comb = [(1.5, 0.01), (1.6, 0.01), (1.6, 0.2), (1.8, 0.2), (1.8, 0.01), (1.9, 0.01), (1.9, 0.2), (2.1, 0.2),
+            (2.1, 0.01), (2.2, 0.01), (2.2, 0.4), (1.5, 0.4)]
+    blocks = [R(-1, -0.2, 3, 0), R(0, 0.01, 0.1, 1.0), R(0.9, 0.01, 1.0, 1.0), R(-0.05, 1.01, 1.05, 1.2), comb]
+    with tempfile.TemporaryDirectory() as tmp:
+        geomlib.write_geometry(os.path.join(tmp, "g.h5"), blocks, sets={"ground": [0], "beam": [3]})
+        scene = os.path.join(tmp, "s.yaml")
+        geomlib.write_scene(scene, "g.h5", supports={"ground": {"u1": 0, "u2": 0, "w": 0}}, loads={"beam": (0, -1000, 0)}, m=1)
+        exe = os.path.join(os.path.dirname(EXE), "test_mechanism")
+        for m, code_want in ((1, 1), (2, 0)):
+            p = subprocess.run([exe, "scene", "-scene", scene, "-discretization_m", str(m)], capture_output=True, text=True, env=ENV)
+            expect(p.returncode == code_want, f"four-bar, m = {m}: exit {p.returncode}, expected {code_want}\n{p.stdout}{p.stderr}")
+            if m == 1:
+                for w in ["mechanism", "blocks 1, 2, 3 (3 blocks)", "block 1 rotates about (0.05, 0.005)",
+                          "block 2 rotates about (0.95, 0.005)", "block 3 translates along (1, 0)"]:
+                    expect(w in p.stderr, f"four-bar: {w!r} not in {p.stderr!r}")
+                print(f"four-bar, m = 1: {p.stderr.strip()}")
+            else:
+                print(f"four-bar, m = 2: {p.stdout.strip()}")
 
 
 def balanced(res, what):

@@ -15,8 +15,14 @@
  *
  *   test_mechanism sway      m = 1: the error names blocks 1, 2, 3 and their motions
  *   test_mechanism sound     m = 2: the same assembly is restrained, no error
+ *   test_mechanism scene -scene S.yaml [options]
+ *                            the scene's assembly as blockwall builds it, then
+ *                            the check: exit 1 and the error line on stderr
+ *                            if it is a mechanism, exit 0 if not (for
+ *                            check_mechanism.py)
  */
 #include <string.h>
+#include <hdf5.h>
 #include "system/mixed.h"
 #include "util/compat.h"
 
@@ -50,6 +56,28 @@ static PetscErrorCode BwBuild(MPI_Comm comm, PetscInt m, BwGeometry *geom, BwMod
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The driver's steps 1, 2 and 4 (scene, joint laws, geometry, model, layout
+ * and assembly), then the check. */
+static PetscErrorCode BwScene_(MPI_Comm comm, BwScene *scene, BwGeometry *geom, BwModel *model, BwMixed *mx)
+{
+  char       path[PETSC_MAX_PATH_LEN] = "";
+  BwJointLaw bed;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), NULL));
+  PetscCall(BwSceneCreate(comm, scene));
+  PetscCall(BwSceneLoad(*scene, path));
+  PetscCall(BwJointLawSetFromOptions(&bed, *scene, "joints_", NULL));
+  PetscCall(BwGeometryCreate(comm, geom));
+  PetscCall(BwGeometrySetFromOptions(*geom, *scene, bed.thickness));
+  PetscCall(BwModelCreate(*geom, model));
+  PetscCall(BwModelSetFromOptions(*model, *scene, &bed, &bed));
+  PetscCall(BwMixedCreate(*model, NULL, mx));
+  PetscCall(BwMixedAssemble(*mx));
+  PetscCall(BwMixedCheckMechanism(*mx, "test"));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 int main(int argc, char **argv)
 {
   BwGeometry     geom  = NULL;
@@ -61,6 +89,27 @@ int main(int argc, char **argv)
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   if (argc > 1) PetscCall(PetscStrncpy(which, argv[1], sizeof(which)));
+  if (!strcmp(which, "scene")) {
+    BwScene     scene = NULL;
+    PetscMPIInt rank;
+    PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    ierr = BwScene_(PETSC_COMM_WORLD, &scene, &geom, &model, &mx);
+    PetscCall(PetscPopErrorHandler());
+    PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+    if (ierr) {
+      char *msg = NULL;
+      PetscErrorMessage(ierr, NULL, &msg);
+      if (!rank) fprintf(stderr, "test_mechanism: error: %s\n", msg ? msg : "unknown");
+      fail = ierr == PETSC_ERR_USER_INPUT ? 1 : 2;
+    } else PetscCall(PetscPrintf(PETSC_COMM_WORLD, "no mechanism\n"));
+    PetscCall(BwMixedDestroy(&mx));
+    PetscCall(BwModelDestroy(&model));
+    PetscCall(BwGeometryDestroy(&geom));
+    PetscCall(BwSceneDestroy(&scene));
+    PetscCall(PetscFinalize());
+    return fail;
+  }
   PetscCall(BwBuild(PETSC_COMM_WORLD, strcmp(which, "sound") ? 1 : 2, &geom, &model));
   PetscCall(BwMixedCreate(model, NULL, &mx)); /* the static checks pass */
   PetscCall(BwMixedAssemble(mx));
