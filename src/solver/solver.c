@@ -74,9 +74,14 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
       PetscCall(BwSolverDefault(s, "-fieldsplit_q_ksp_type", "preonly"));
       PetscCall(BwSolverDefault(s, "-fieldsplit_q_pc_type", "cholesky"));
       PetscCall(BwSolverDefault(s, "-fieldsplit_q_pc_factor_mat_solver_type", "mumps"));
+      /* null-pivot detection: a singular S^ is reported, not factored into garbage */
+      PetscCall(BwSolverDefault(s, "-fieldsplit_q_mat_mumps_icntl_24", "1"));
     }
   }
-  if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_DIRECT) PetscCall(BwSolverDefault(s, "-direct_mat_mumps_icntl_14", "100"));
+  if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_DIRECT) {
+    PetscCall(BwSolverDefault(s, "-direct_mat_mumps_icntl_14", "100"));
+    PetscCall(BwSolverDefault(s, "-direct_mat_mumps_icntl_24", "1"));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -216,6 +221,41 @@ static PetscErrorCode BwSolverSchurOperator(BwSolver s, BwMixed mx)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Null pivots MUMPS found (INFOG(28)) in the factorisation a path used; 0
+ * when the path factored nothing with MUMPS. */
+static PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
+{
+  PC        pc;
+  Mat       F;
+  PetscBool factor, fs, mumps = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  *npiv = 0;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
+  if (fs) {
+    KSP     *sub;
+    PetscInt n;
+    PetscCall(PCFieldSplitSchurGetSubKSP(pc, &n, &sub));
+    PetscCall(KSPGetPC(sub[1], &pc));
+    PetscCall(PetscFree(sub));
+  }
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PCFactorGetMatrix(pc, &F));
+  {
+    MatSolverType type;
+    PetscCall(MatFactorGetSolverType(F, &type));
+    PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
+  }
+  if (mumps) {
+    PetscInt v;
+    PetscCall(MatMumpsGetInfog(F, 28, &v));
+    *npiv = v;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Runs one path. A PETSc error inside the solver (a factorisation that
  * fails, say) is a failed path, not a failed run: its code is returned in
  * *failed together with the reason, and the caller decides. */
@@ -223,6 +263,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
 {
   PetscErrorCode     ierr;
   KSPConvergedReason kr;
+  PetscInt           npiv = 0;
 
   PetscFunctionBeginUser;
   *ok = PETSC_FALSE;
@@ -249,6 +290,8 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCGetFailedReason(pc, &pcr));
     PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
+  } else if (BwSolverNullPivots(ksp, &npiv) == PETSC_SUCCESS && npiv > 0) {
+    PetscCall(PetscSNPrintf(reason, len, "%s: MUMPS found %" PetscInt_FMT " null pivot%s (a singular system)", name, npiv, npiv > 1 ? "s" : ""));
   } else if (!(s->check.residual <= s->rtol)) {
     PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses solver.rtol %.3e", name, (double)s->check.residual, (double)s->rtol));
   } else *ok = PETSC_TRUE;
@@ -311,6 +354,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
     PetscCall(BwSolverSetUpFieldsplit(s, mx));
     s->used = BW_METHOD_FIELDSPLIT;
     PetscCall(BwSolverRun(s, mx, log, s->fieldsplit, "fieldsplit", &ok, reason, sizeof(reason)));
+    if (!ok && s->requested == BW_METHOD_FIELDSPLIT) PetscCall(BwMixedCheckMechanism(mx, reason));
     if (!ok && s->requested == BW_METHOD_FIELDSPLIT) SETERRQ(s->comm, PETSC_ERR_NOT_CONVERGED, "solver failed: %s (solver.method: auto would fall back to MUMPS)", reason);
     if (!ok) {
       s->fallback = PETSC_TRUE;
@@ -321,6 +365,8 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
     PetscCall(BwSolverSetUpDirect(s, mx));
     s->used = BW_METHOD_DIRECT;
     PetscCall(BwSolverRun(s, mx, log, s->direct, "direct (MUMPS)", &ok, reason, sizeof(reason)));
+    /* both paths failed: a mechanism the static checks missed is named */
+    if (!ok) PetscCall(BwMixedCheckMechanism(mx, reason));
     PetscCheck(ok, s->comm, PETSC_ERR_NOT_CONVERGED, "solver failed: %s%s%s; the assembly may be a mechanism or the system too ill-conditioned for solver.rtol", reason, s->fallback ? "; before it, " : "", s->fallback ? s->fallback_reason : "");
   }
   /* Defaults inserted for sub-solvers the user replaced stay unused: drop them. */

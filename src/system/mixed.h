@@ -64,6 +64,10 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mixed, PetscScalar bb[], Mat *D);
 PetscErrorCode BwMixedGetAIJ(BwMixed mixed, Mat *aij);
 /* Error naming the blocks that can move freely (called by BwMixedCreate). */
 PetscErrorCode BwMixedCheckRestraint(BwMixed mixed);
+/* Numerical check of S^ for a mechanism (restraint.c): a one-line error
+ * naming the blocks and their free motion if S^ is singular to working
+ * precision, nothing otherwise. Collective; one extra factorisation. */
+PetscErrorCode BwMixedCheckMechanism(BwMixed mixed, const char how[]);
 PetscErrorCode BwMixedDestroy(BwMixed *mixed);
 
 /* Results of the owned blocks and interfaces, physical units. */

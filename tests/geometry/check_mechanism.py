@@ -134,6 +134,15 @@ def four_bar():
                 print(f"four-bar, m = 1: {p.stderr.strip()}")
             else:
                 print(f"four-bar, m = 2: {p.stdout.strip()}")
+        # the executable itself refuses it (m = 1: S^ checked numerically
+        # after assembly) and writes nothing
+        out = os.path.join(tmp, "never.h5")
+        p = subprocess.run([EXE, "-scene", scene, "-output_file", out], capture_output=True, text=True, env=ENV)
+        lines = [l for l in p.stderr.splitlines() if l.strip()]
+        expect(p.returncode != 0 and len(lines) == 1 and "mechanism" in lines[0] and "blocks 1, 2, 3" in lines[0],
+               f"blockwall on the four-bar: exit {p.returncode}, stderr {p.stderr!r}")
+        expect(not os.path.exists(out), "a result was written for a mechanism")
+        print(f"blockwall, m = 1: {lines[0]}")
 
 
 def balanced(res, what):

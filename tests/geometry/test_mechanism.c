@@ -27,7 +27,6 @@
 #include "util/compat.h"
 
 /* Declared in system/mixed.h once the solver calls it (see restraint.c). */
-PetscErrorCode BwMixedCheckMechanism(BwMixed mixed, const char how[]);
 
 static PetscErrorCode BwBuild(MPI_Comm comm, PetscInt m, BwGeometry *geom, BwModel *model)
 {
