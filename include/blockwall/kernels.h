@@ -24,6 +24,8 @@ typedef enum {
 
 /* R B (rb[3][6]): rows dt, dn, phi at G per unit dof of blocks i and j. */
 void bw_interface_compatibility(const double ci[2], const double cj[2], const double gc[2], double theta, double rb[18], int *status);
+/* The compliance diagonal g[2m] = (A_p/kt.., A_p/kn..) alone. */
+void bw_interface_compliance(double length, double depth, double kn, double kt, int m, double g[], int *status);
 /* D_k = H^T R B (d[2m][6]) and the compliance diagonal g[2m] = (A_p/kt.., A_p/kn..). */
 void bw_interface_operator(const double ci[2], const double cj[2], const double gc[2], double theta, double length,
                           double depth, double kn, double kt, int m, double d[], double g[], int *status);

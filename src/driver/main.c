@@ -143,6 +143,7 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
     PetscCall(PetscPrintf(comm, "  method: %s (requested %s), iterations %" PetscInt_FMT "%s%s\n", BwMethods[s->used], BwMethods[s->requested], s->iterations, s->fallback ? ", fallback: " : "", s->fallback_reason));
     PetscCall(PetscPrintf(comm, "  residual %.3e (equilibrium %.3e, compatibility %.3e; rtol %.1e)\n", (double)s->check.residual, (double)s->check.equilibrium, (double)s->check.compatibility, (double)s->rtol));
     PetscCall(PetscPrintf(comm, "  equilibrium error (reactions + loads) %.3e\n", (double)s->check.equilibrium_error));
+    if (!s->accuracy_met) PetscCall(PetscPrintf(comm, "  WARNING: %s\n", s->warning));
     PetscCall(PetscPrintf(comm, "  time [s]:"));
     for (int p = 0; p < BW_NPHASES; p++) PetscCall(PetscPrintf(comm, " %s %.3f,", BwPhaseNames[p], log.seconds[p]));
     PetscCall(PetscPrintf(comm, " total %.3f\n", total));
@@ -169,7 +170,10 @@ int main(int argc, char **argv)
   if (ierr) {
     char *specific = NULL;
     PetscErrorMessage(ierr, NULL, &specific);
-    if (rank == 0) fprintf(stderr, "blockwall: error: %s\n", specific && specific[0] ? specific : "unknown error");
+    if (rank == 0) {
+      if (ierr == PETSC_ERR_MEM) fprintf(stderr, "blockwall: error: out of memory (in %s): the assembly is too large for this machine's memory with these settings\n", specific && specific[0] ? specific : "blockwall");
+      else fprintf(stderr, "blockwall: error: %s\n", specific && specific[0] ? specific : "unknown error");
+    }
     code = ierr == PETSC_ERR_USER_INPUT ? 1 : 2;
   }
   if (BwRunDestroy(&run)) code = code ? code : 3;

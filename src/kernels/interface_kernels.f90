@@ -24,7 +24,7 @@ module bw_interface_kernels
   implicit none
   private
   public :: bw_interface_operator, bw_interface_stiffness, bw_interface_recover, &
-            bw_interface_stress, bw_interface_compatibility
+            bw_interface_stress, bw_interface_compatibility, bw_interface_compliance
 
   integer(c_int), parameter, public :: BW_KERNEL_OK = 0, BW_KERNEL_BAD_M = 1, &
        BW_KERNEL_BAD_LENGTH = 2, BW_KERNEL_BAD_DEPTH = 3, BW_KERNEL_BAD_STIFFNESS = 4
@@ -94,6 +94,22 @@ contains
     status = BW_KERNEL_OK
     rb = transpose(rotated_compatibility(ci, cj, gc, theta))
   end subroutine bw_interface_compatibility
+
+  !> The compliance diagonal g (2m) alone: A_p/kt for the shear portions,
+  !! A_p/kn for the normal ones.
+  pure subroutine bw_interface_compliance(length, depth, kn, kt, m, g, status) &
+       bind(C, name="bw_interface_compliance")
+    real(c_double), value, intent(in) :: length, depth, kn, kt
+    integer(c_int), value, intent(in) :: m
+    real(c_double), intent(out) :: g(2 * m)
+    integer(c_int), intent(out) :: status
+    real(c_double) :: ap
+    status = check_arguments(length, depth, kn, kt, m)
+    if (status /= BW_KERNEL_OK) return
+    ap = depth * length / real(m, c_double)
+    g(1:m) = ap / kt
+    g(m + 1:2 * m) = ap / kn
+  end subroutine bw_interface_compliance
 
   !> D_k = H^T R B (C: double d[2m][6]) and the compliance diagonal g (2m).
   pure subroutine bw_interface_operator(ci, cj, gc, theta, length, depth, kn, kt, m, d, g, status) &

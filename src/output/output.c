@@ -332,6 +332,8 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed 
   PetscCall(BwH5AttrInt(grp, "fallback", s->fallback));
   PetscCall(BwH5AttrString(grp, "fallback_reason", s->fallback_reason));
   PetscCall(BwH5AttrInt(grp, "iterations", s->iterations));
+  PetscCall(BwH5AttrInt(grp, "accuracy_met", s->accuracy_met));
+  PetscCall(BwH5AttrString(grp, "warning", s->warning));
   PetscCall(BwH5AttrDouble(grp, "rtol", s->rtol));
   PetscCall(BwH5AttrDouble(grp, "residual", s->check.residual));
   PetscCall(BwH5AttrDouble(grp, "residual_equilibrium", s->check.equilibrium));

@@ -38,6 +38,8 @@ struct _n_BwSolver {
   BwMethod  used;
   PetscBool fallback;
   char      fallback_reason[512];
+  PetscBool accuracy_met; /* the true residual met solver.rtol */
+  char      warning[512]; /* why not, when it did not */
   PetscInt  iterations;
   BwCheck   check;
   /* options this object inserted as defaults; cleared again if unused */

@@ -11,6 +11,7 @@
 #include "system/mixed.h"
 #include "util/compat.h"
 #include "blockwall/kernels.h"
+#include "util/log.h"
 
 static const char *const BwKernelMessages[] = {"ok", "has m < 1", "has a non-positive or non-finite length", "has a non-positive or non-finite depth", "has a non-positive or non-finite stiffness kn or kt"};
 
@@ -105,7 +106,9 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     PetscCall(PetscFree(fill));
   }
   *mixed = mx; /* from here on, BwMixedDestroy cleans up after an error */
+  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
   PetscCall(BwMixedCheckRestraint(mx));
+  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
 
   /* owners */
   PetscCall(PetscMalloc2(nb, &mx->block_owner, ni, &mx->interface_owner));
@@ -354,10 +357,14 @@ static PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscScalar bb[], Mat *D)
 static PetscErrorCode BwMixedAssembleS(BwMixed mx, PetscScalar bb[])
 {
   BwGeometry geom = mx->geom;
-  PetscInt  *ia, *ja, nrow = 0, nnz = 0, nbr[512], ncol, col[1536];
-  PetscReal *va, s[36], acc[3][1536];
+  PetscInt  *ia, *ja, nrow = 0, *nbr, ncol, *col, maxdeg = 0;
+  PetscReal *va, s[36], *acc[3];
 
   PetscFunctionBeginUser;
+  /* work arrays sized by the largest number of interfaces of an owned block
+   * (a foundation under a whole wall has one per unit of the bottom course) */
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) maxdeg = PetscMax(maxdeg, mx->adj_offsets[mx->own_blocks[e] + 1] - mx->adj_offsets[mx->own_blocks[e]]);
+  PetscCall(PetscMalloc5(maxdeg + 1, &nbr, 3 * (maxdeg + 1), &col, 3 * (maxdeg + 1), &acc[0], 3 * (maxdeg + 1), &acc[1], 3 * (maxdeg + 1), &acc[2]));
   /* pass 1: row lengths */
   PetscCall(PetscMalloc1(mx->nq_local + 1, &ia));
   ia[0] = 0;
@@ -366,7 +373,6 @@ static PetscErrorCode BwMixedAssembleS(BwMixed mx, PetscScalar bb[])
     nbr[nn++] = b;
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
       PetscInt k = mx->adj[a];
-      PetscCheck(nn < 512, PETSC_COMM_SELF, PETSC_ERR_SUP, "block %" PetscInt_FMT " has more than 511 interfaces", b);
       nbr[nn++] = geom->pair[2 * k] == b ? geom->pair[2 * k + 1] : geom->pair[2 * k];
     }
     PetscCall(PetscSortRemoveDupsInt(&nn, nbr));
@@ -423,8 +429,8 @@ static PetscErrorCode BwMixedAssembleS(BwMixed mx, PetscScalar bb[])
       BwSortRow(ncol, ja + ia[nrow], va + ia[nrow]);
       nrow++;
     }
-    nnz += 3 * ncol;
   }
+  PetscCall(PetscFree5(nbr, col, acc[0], acc[1], acc[2]));
   PetscCall(BwMatFromCSR(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "schur_", ia, ja, va, &mx->S));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -465,9 +471,13 @@ PetscErrorCode BwMixedAssemble(BwMixed mx)
   PetscCall(VecCreateMPI(mx->comm, mx->nlocal, PETSC_DETERMINE, &mx->b));
   PetscCall(VecDuplicate(mx->b, &mx->x));
   PetscCall(VecGetArray(mx->b, &bb));
+  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_ASSEMBLE_D], 0, 0, 0, 0));
   if (mx->storage == BW_STORAGE_SHELL) PetscCall(BwMixedCreateDShell(mx, bb, &mx->D));
   else PetscCall(BwMixedAssembleD(mx, bb, &mx->D));
+  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_ASSEMBLE_D], 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_ASSEMBLE_S], 0, 0, 0, 0));
   PetscCall(BwMixedAssembleS(mx, bb));
+  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_ASSEMBLE_S], 0, 0, 0, 0));
   PetscCall(VecRestoreArray(mx->b, &bb));
   PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
   PetscCall(MatSetOption(mx->S, MAT_SPD_ETERNAL, PETSC_TRUE));

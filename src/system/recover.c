@@ -9,6 +9,7 @@
 #include "system/mixed.h"
 #include "util/compat.h"
 #include "blockwall/kernels.h"
+#include "util/log.h"
 
 typedef struct {
   PetscInt   nint, *ints; /* interfaces needed, sorted */
@@ -88,8 +89,8 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
       PetscBool          mine = row >= lo && row < hi;
       const PetscScalar *src  = mine ? xl + (row - lo) : a + n;
       int                status;
-      bw_interface_operator(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, mx->model->kn[k], mx->model->kt[k], (int)mx->m, d, g, &status);
-      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+      bw_interface_compliance(geom->length[k], geom->depth, mx->model->kn[k], mx->model->kt[k], (int)mx->m, g, &status);
+      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ")", k, i, j);
       for (PetscInt p = 0; p < m2; p++) gh->r[m2 * e + p] = PetscRealPart(src[p]) / PetscSqrtReal(g[p]);
       if (!mine) n += m2;
     }
@@ -137,12 +138,13 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, BwResults *res)
   BwGeometry geom = mx->geom;
   PetscInt   m = mx->m, m2 = 2 * m;
   BwGhosts   gh;
-  PetscReal *d, *g;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
   PetscCall(BwGhostsGather(mx, x, &gh));
+  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
   PetscCall(PetscCalloc5(3 * mx->nown_blocks, &res->displacement, 3 * mx->nown_blocks, &res->reaction, 3 * mx->nown_interfaces, &res->relative, 3 * mx->nown_interfaces, &res->resultant, m2 * mx->nown_interfaces, &res->stress));
-  PetscCall(PetscMalloc2(6 * m2, &d, m2, &g));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
     PetscInt         k = mx->own_interfaces[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1], loc;
     const PetscReal *qi, *qj, *r;
@@ -167,20 +169,24 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, BwResults *res)
 
     PetscCall(BwGhostBlock(&gh, b, &qb));
     for (PetscInt c = 0; c < 3; c++) res->displacement[3 * e + c] = qb[c];
-    /* (D^T r)_b from every interface touching b */
+    if (!(mx->model->prescribed[3 * b] || mx->model->prescribed[3 * b + 1] || mx->model->prescribed[3 * b + 2])) continue;
+    /* (D^T r)_b = sum over b's interfaces of (R B)_b^T (T, N, M), H r summed
+     * from the stresses, whichever rank owns the interface */
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
-      PetscInt k = mx->adj[a], side = mx->geom->pair[2 * k] == b ? 0 : 3, loc, i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
-      int      status;
+      PetscInt         k = mx->adj[a], side = mx->geom->pair[2 * k] == b ? 0 : 3, loc, i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
+      const PetscReal  zero[3] = {0, 0, 0};
+      PetscReal        rb[18], h[3], dg[3];
+      int              status;
       PetscCall(PetscFindInt(k, gh.nint, gh.ints, &loc));
-      bw_interface_operator(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, mx->model->kn[k], mx->model->kt[k], (int)m, d, g, &status);
-      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
-      for (PetscInt c = 0; c < 3; c++)
-        for (PetscInt p = 0; p < m2; p++) f[c] += d[6 * p + side + c] * gh.r[m2 * loc + p];
+      /* h = H r (the relative displacement, unused here, from zero dofs) */
+      bw_interface_recover(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, (int)m, zero, zero, gh.r + m2 * loc, dg, h, &status);
+      bw_interface_compatibility(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], rb, &status);
+      for (PetscInt c = 0; c < 3; c++) f[c] += rb[side + c] * h[0] + rb[6 + side + c] * h[1] + rb[12 + side + c] * h[2];
     }
     for (PetscInt c = 0; c < 3; c++) res->reaction[3 * e + c] = mx->model->prescribed[3 * b + c] ? f[c] - mx->model->load[3 * b + c] : 0;
   }
-  PetscCall(PetscFree2(d, g));
   PetscCall(BwGhostsFree(&gh));
+  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -199,6 +205,7 @@ PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, const BwResults *res, BwCheck *ch
   PetscReal          loc[6] = {0, 0, 0, 0, 0, 0}, glob[6];
 
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_CHECK], 0, 0, 0, 0));
   PetscCall(VecDuplicate(x, &Kx));
   PetscCall(MatMult(mx->K, x, Kx));
   PetscCall(VecGetArrayRead(Kx, &kx));
@@ -261,5 +268,6 @@ PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, const BwResults *res, BwCheck *ch
       check->equilibrium_error = den > 0 ? num / den : num;
     }
   }
+  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_CHECK], 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

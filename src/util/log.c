@@ -5,6 +5,7 @@
 #include "util/compat.h"
 
 const char *const BwPhaseNames[BW_NPHASES] = {"generate", "partition", "assemble", "setup", "solve", "recover", "write"};
+PetscLogEvent     BwEvents[BW_NEVENTS];
 
 PetscErrorCode BwLogCreate(MPI_Comm comm, BwLog *log)
 {
@@ -16,7 +17,11 @@ PetscErrorCode BwLogCreate(MPI_Comm comm, BwLog *log)
   PetscCall(PetscMemzero(log, sizeof(*log)));
   log->comm = comm;
   if (!done) {
+    static const char *const events[BW_NEVENTS] = {"BwLayout", "BwRestraint", "BwAssembleD", "BwAssembleS", "BwGatherGhosts", "BwResults", "BwCheck"};
+    PetscClassId             id;
     for (int s = 0; s < BW_NPHASES; s++) PetscCall(PetscLogStageRegister(stages[s], &registered[s]));
+    PetscCall(PetscClassIdRegister("blockwall", &id));
+    for (int e = 0; e < BW_NEVENTS; e++) PetscCall(PetscLogEventRegister(events[e], id, &BwEvents[e]));
     done = PETSC_TRUE;
   }
   for (int s = 0; s < BW_NPHASES; s++) log->stage[s] = registered[s];

@@ -7,6 +7,10 @@
 typedef enum { BW_PHASE_GENERATE, BW_PHASE_PARTITION, BW_PHASE_ASSEMBLE, BW_PHASE_SETUP, BW_PHASE_SOLVE, BW_PHASE_RECOVER, BW_PHASE_WRITE, BW_NPHASES } BwPhase;
 extern const char *const BwPhaseNames[BW_NPHASES];
 
+/* Events inside the phases, registered once by BwLogCreate. */
+typedef enum { BW_EVENT_LAYOUT, BW_EVENT_RESTRAINT, BW_EVENT_ASSEMBLE_D, BW_EVENT_ASSEMBLE_S, BW_EVENT_GATHER, BW_EVENT_RESULTS, BW_EVENT_CHECK, BW_NEVENTS } BwEvent;
+extern PetscLogEvent BwEvents[BW_NEVENTS];
+
 typedef struct {
   MPI_Comm       comm;
   PetscBool      verbose;            /* print one line per phase */
