@@ -90,7 +90,7 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   PetscCall(BwOutputCreate(comm, &run->output));
   PetscCall(BwOutputSetFromOptions(run->output, run->scene));
   PetscCall(BwSolverCreate(comm, &run->solver));
-  PetscCall(BwSolverSetFromOptions(run->solver, run->scene));
+  PetscCall(BwSolverSetFromOptions(run->solver, run->scene, run->geom->nblocks));
   if (help && !has_scene) PetscFunctionReturn(PETSC_SUCCESS);
 
   /* 4. partition and assembly */

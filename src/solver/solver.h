@@ -1,12 +1,12 @@
 /* BwSolver: solves the scaled mixed system of BwMixed.
  *
- *   fieldsplit  FGMRES on the whole system, preconditioned by PCFIELDSPLIT
- *               Schur with full factorisation: fields r (stresses, A00 = -I,
- *               solved exactly by Jacobi) and q (dofs); the Schur complement
- *               is preconditioned by the assembled S^ = D^T D^ (exact), by
- *               default factored by MUMPS Cholesky (solver.schur: cholesky)
- *               or solved by CG + GAMG with the rigid-body near-null space
- *               (solver.schur: gamg). Options prefix: none (-ksp_*, -pc_*,
+ *   fieldsplit  Richardson on the true residual of the whole system,
+ *               preconditioned by PCFIELDSPLIT Schur with full factorisation:
+ *               fields r (stresses, A00 = -I, solved exactly by Jacobi) and q
+ *               (dofs); the Schur complement is solved with the assembled
+ *               S^ = D^T D^ (exact): factored by MUMPS Cholesky, or by CG +
+ *               GAMG with the rigid-body near-null space (solver.schur; by
+ *               default by size). Options prefix: none (-ksp_*, -pc_*,
  *               -fieldsplit_r_*, -fieldsplit_q_*).
  *   direct      MUMPS LU of the whole system with iterative refinement
  *               (Richardson on the true residual). Prefix: -direct_.
@@ -15,7 +15,8 @@
  *               from the displacements). Prefix: -condensed_. Not a fallback.
  *   auto        fieldsplit; if its KSP fails or the true residual of the
  *               full system misses solver.rtol, direct, and the reason is
- *               recorded.
+ *               recorded. If every path misses rtol but stays within
+ *               sqrt(rtol), the best answer is kept with a warning.
  * Defaults are set in code (or inserted into the options database when
  * absent, for the sub-solvers PETSc creates itself) and every option
  * overrides them. */
@@ -48,7 +49,8 @@ struct _n_BwSolver {
 };
 
 PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver);
-PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene);
+/* nblocks picks the default Schur solve (solver.schur: auto). */
+PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene, PetscInt nblocks);
 /* Solves into mixed->x and fills the outcome and the residual check. */
 PetscErrorCode BwSolverSolve(BwSolver solver, BwMixed mixed, BwLog *log);
 /* Option prefixes of paths that did not run (their options are legitimately
