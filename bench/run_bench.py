@@ -15,6 +15,7 @@ import datetime
 import os
 import platform
 import re
+import resource
 import subprocess
 import tempfile
 
@@ -43,7 +44,10 @@ def run(blocks, ranks, method, extra=()):
                "-output_xdmf", "false", "-progress", "false", *extra]
         if ranks > 1:
             cmd = ["mpiexec", "--oversubscribe", "-n", str(ranks), *cmd]
-        p = subprocess.run(cmd, capture_output=True, text=True, env=ENV)
+        # a run that needs more than 21 GiB fails with an allocation error
+        # instead of waking the kernel's OOM killer
+        limit = lambda: resource.setrlimit(resource.RLIMIT_AS, (21 << 30, 21 << 30))
+        p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, preexec_fn=limit)
         if p.returncode:
             return {"error": p.stderr.strip().splitlines()[-1] if p.stderr.strip() else f"exit {p.returncode}"}
         with h5py.File(out) as f:
@@ -60,7 +64,8 @@ def machine():
     except Exception:
         pass
     mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
-    return f"{cpu}, {os.cpu_count()} cores, {mem:.0f} GiB, {platform.system()} {platform.release()}"
+    load = open("/proc/loadavg").read().split()[0]
+    return f"{cpu}, {os.cpu_count()} cores, {mem:.0f} GiB, {platform.system()} {platform.release()}; load average {load} at start"
 
 
 def main():
