@@ -112,7 +112,7 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
 
   /* 6. recover and check */
   PetscCall(BwLogBegin(&log, BW_PHASE_RECOVER));
-  PetscCall(BwMixedRecover(run->mixed, run->mixed->x, &run->results));
+  PetscCall(BwMixedRecover(run->mixed, run->mixed->x, run->output->stresses, &run->results));
   PetscCall(BwMixedCheck(run->mixed, run->mixed->x, &run->results, &run->solver->check));
   PetscCall(BwLogEnd(&log, BW_PHASE_RECOVER));
   {

@@ -361,6 +361,8 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
   s->accuracy_met       = PETSC_TRUE;
   if (s->requested == BW_METHOD_CONDENSED) {
     PetscCall(BwSolverCondensed(s, mx, log));
+    s->ran_condensed = PETSC_TRUE;
+    PetscCall(KSPDestroy(&s->condensed));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   if (s->requested != BW_METHOD_DIRECT) {
@@ -417,6 +419,14 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
     PetscCall(PetscOptionsUsed(NULL, s->defaults[d], &used));
     if (!used) PetscCall(PetscOptionsClearValue(NULL, s->defaults[d]));
   }
+  /* The answer is in mx->x: the solvers' factors, hierarchies and work
+   * vectors go now, before recovery allocates its own. */
+  s->ran_fieldsplit = s->fieldsplit ? PETSC_TRUE : PETSC_FALSE;
+  s->ran_direct     = s->direct ? PETSC_TRUE : PETSC_FALSE;
+  s->ran_condensed  = s->condensed ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(KSPDestroy(&s->fieldsplit));
+  PetscCall(KSPDestroy(&s->direct));
+  PetscCall(KSPDestroy(&s->condensed));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -424,12 +434,12 @@ PetscErrorCode BwSolverGetIdlePrefixes(BwSolver s, PetscInt *n, const char *pref
 {
   PetscFunctionBeginUser;
   *n = 0;
-  if (!s->fieldsplit) {
+  if (!s->ran_fieldsplit) {
     prefixes[(*n)++] = "ksp_";
     prefixes[(*n)++] = "pc_";
     prefixes[(*n)++] = "fieldsplit_";
   }
-  if (!s->direct) prefixes[(*n)++] = "direct_";
-  if (!s->condensed) prefixes[(*n)++] = "condensed_";
+  if (!s->ran_direct) prefixes[(*n)++] = "direct_";
+  if (!s->ran_condensed) prefixes[(*n)++] = "condensed_";
   PetscFunctionReturn(PETSC_SUCCESS);
 }

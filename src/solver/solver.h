@@ -34,7 +34,8 @@ struct _n_BwSolver {
   PetscReal rtol;
   PetscBool schur_gamg;
   BwStorage storage; /* solver.storage */
-  KSP       fieldsplit, direct, condensed;
+  KSP       fieldsplit, direct, condensed; /* destroyed when the solve is done */
+  PetscBool ran_fieldsplit, ran_direct, ran_condensed;
   /* outcome */
   BwMethod  used;
   PetscBool fallback;

@@ -76,7 +76,7 @@ typedef struct {
   PetscReal *reaction;     /* 3 per owned block (0 at free dofs) */
   PetscReal *relative;     /* 3 per owned interface: dt, dn, phi */
   PetscReal *resultant;    /* 3 per owned interface: T, N, M */
-  PetscReal *stress;       /* 2m per owned interface: (shear, normal) per portion */
+  PetscReal *stress;       /* 2m per owned interface: (shear, normal) per portion, if asked */
 } BwResults;
 /* Self-check of a solution x: relative norms in the scaled system; the
  * global balance needs the recovered reactions (res may be NULL: then
@@ -89,5 +89,7 @@ typedef struct {
 } BwCheck;
 PetscErrorCode BwMixedCheck(BwMixed mixed, Vec x, const BwResults *res, BwCheck *check);
 
-PetscErrorCode BwMixedRecover(BwMixed mixed, Vec x, BwResults *res);
+/* stresses: keep the per-portion stresses (output.stresses), else only
+ * their resultants. */
+PetscErrorCode BwMixedRecover(BwMixed mixed, Vec x, PetscBool stresses, BwResults *res);
 PetscErrorCode BwResultsFree(BwResults *res);

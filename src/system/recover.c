@@ -26,7 +26,7 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   Vec                loc;
   VecScatter         sct;
   const PetscScalar *a, *xl;
-  PetscReal         *d, *g;
+  PetscReal         *g;
 
   PetscFunctionBeginUser;
   /* needed interfaces and blocks */
@@ -80,7 +80,7 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
 
     /* unscale */
     PetscCall(PetscMalloc2(m2 * gh->nint, &gh->r, 3 * gh->nblk, &gh->q));
-    PetscCall(PetscMalloc2(6 * m2, &d, m2, &g));
+    PetscCall(PetscMalloc1(m2, &g));
     PetscCall(VecGetArrayRead(loc, &a));
     PetscCall(VecGetArrayRead(x, &xl));
     n = 0;
@@ -109,7 +109,7 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
     PetscCall(VecRestoreArrayRead(loc, &a));
     PetscCall(VecDestroy(&loc));
   }
-  PetscCall(PetscFree2(d, g));
+  PetscCall(PetscFree(g));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -133,7 +133,7 @@ static PetscErrorCode BwGhostBlock(const BwGhosts *gh, PetscInt b, const PetscRe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, BwResults *res)
+PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, PetscBool stresses, BwResults *res)
 {
   BwGeometry geom = mx->geom;
   PetscInt   m = mx->m, m2 = 2 * m;
@@ -144,7 +144,7 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, BwResults *res)
   PetscCall(BwGhostsGather(mx, x, &gh));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
-  PetscCall(PetscCalloc5(3 * mx->nown_blocks, &res->displacement, 3 * mx->nown_blocks, &res->reaction, 3 * mx->nown_interfaces, &res->relative, 3 * mx->nown_interfaces, &res->resultant, m2 * mx->nown_interfaces, &res->stress));
+  PetscCall(PetscCalloc5(3 * mx->nown_blocks, &res->displacement, 3 * mx->nown_blocks, &res->reaction, 3 * mx->nown_interfaces, &res->relative, 3 * mx->nown_interfaces, &res->resultant, stresses ? m2 * mx->nown_interfaces : 0, &res->stress));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
     PetscInt         k = mx->own_interfaces[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1], loc;
     const PetscReal *qi, *qj, *r;
@@ -157,7 +157,7 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, BwResults *res)
     bw_interface_recover(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, (int)m, qi, qj, r, &res->relative[3 * e], &res->resultant[3 * e], &status);
     PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
     /* output order (I, m, 2): shear and normal of each portion side by side */
-    for (PetscInt p = 0; p < m; p++) {
+    for (PetscInt p = 0; p < m && stresses; p++) {
       res->stress[m2 * e + 2 * p]     = r[p];
       res->stress[m2 * e + 2 * p + 1] = r[m + p];
     }
