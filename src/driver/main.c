@@ -117,7 +117,7 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   PetscCall(BwLogEnd(&log, BW_PHASE_RECOVER));
   {
     PetscInt    n;
-    const char *idle[4];
+    const char *idle[6];
     PetscCall(BwSolverGetIdlePrefixes(run->solver, &n, idle));
     PetscCall(BwSceneCheckUnused(run->scene, n, idle));
   }

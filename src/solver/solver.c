@@ -26,6 +26,7 @@ PetscErrorCode BwSolverDestroy(BwSolver *solver)
   PetscCall(KSPDestroy(&(*solver)->fieldsplit));
   PetscCall(KSPDestroy(&(*solver)->direct));
   PetscCall(KSPDestroy(&(*solver)->condensed));
+  PetscCall(KSPDestroy(&(*solver)->cholesky));
   PetscCall(PetscFree(*solver));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -38,7 +39,7 @@ static PetscErrorCode BwSolverDefault(BwSolver s, const char name[], const char 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasName(NULL, NULL, name, &set));
   if (set) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCheck(s->ndefaults < 16, PETSC_COMM_SELF, PETSC_ERR_PLIB, "too many solver defaults");
+  PetscCheck(s->ndefaults < 24, PETSC_COMM_SELF, PETSC_ERR_PLIB, "too many solver defaults");
   PetscCall(PetscOptionsSetValue(NULL, name, value));
   PetscCall(PetscStrncpy(s->defaults[s->ndefaults++], name, sizeof(s->defaults[0])));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -84,6 +85,18 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene, PetscInt nblock
       PetscCall(BwSolverDefault(s, "-fieldsplit_q_mat_mumps_icntl_24", "1"));
     }
   }
+  /* With CG + GAMG first, auto falls back to the same fieldsplit with the
+   * Schur complement factored by MUMPS (prefix cholesky_) before the direct
+   * path, which above BW_SCHUR_GAMG_BLOCKS blocks would not fit in memory. */
+  if (s->requested == BW_METHOD_AUTO && s->schur_gamg) {
+    PetscCall(BwSolverDefault(s, "-cholesky_fieldsplit_r_ksp_type", "preonly"));
+    PetscCall(BwSolverDefault(s, "-cholesky_fieldsplit_r_pc_type", "jacobi"));
+    PetscCall(BwSolverDefault(s, "-cholesky_fieldsplit_q_ksp_type", "preonly"));
+    PetscCall(BwSolverDefault(s, "-cholesky_fieldsplit_q_pc_type", "cholesky"));
+    PetscCall(BwSolverDefault(s, "-cholesky_fieldsplit_q_pc_factor_mat_solver_type", "mumps"));
+    PetscCall(BwSolverDefault(s, "-cholesky_fieldsplit_q_mat_mumps_icntl_24", "1"));
+  }
+  s->direct_fits = nblocks < BW_SCHUR_GAMG_BLOCKS || s->requested == BW_METHOD_DIRECT ? PETSC_TRUE : PETSC_FALSE;
   if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_DIRECT) {
     PetscCall(BwSolverDefault(s, "-direct_mat_mumps_icntl_14", "100"));
     PetscCall(BwSolverDefault(s, "-direct_mat_mumps_icntl_24", "1"));
@@ -144,13 +157,16 @@ static PetscErrorCode BwSolverNearNullSpace(BwMixed mx)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx)
+static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx, KSP *kspp, const char prefix[], PetscBool gamg)
 {
-  PC pc;
+  PC  pc;
+  KSP ksp;
 
   PetscFunctionBeginUser;
-  PetscCall(KSPCreate(s->comm, &s->fieldsplit));
-  PetscCall(KSPSetOperators(s->fieldsplit, mx->K, mx->K));
+  PetscCall(KSPCreate(s->comm, kspp));
+  ksp = *kspp;
+  if (prefix) PetscCall(KSPSetOptionsPrefix(ksp, prefix));
+  PetscCall(KSPSetOperators(ksp, mx->K, mx->K));
   /* Richardson on the unpreconditioned (true) residual: with the Schur
    * complement factored the preconditioner is the exact inverse up to
    * round-off and one step converges; with CG + GAMG to 1e-4 each step
@@ -158,10 +174,10 @@ static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx)
    * It keeps two work vectors, where FGMRES keeps two per iteration: each
    * holds 2m stresses per interface (0.8 KB per block at m = 16), and
    * FGMRES(5) took 24 KB per block where Richardson takes 13 KB. */
-  PetscCall(KSPSetType(s->fieldsplit, KSPRICHARDSON));
-  PetscCall(KSPSetNormType(s->fieldsplit, KSP_NORM_UNPRECONDITIONED));
-  PetscCall(KSPSetTolerances(s->fieldsplit, s->rtol, 0.0, PETSC_DEFAULT, s->schur_gamg ? 30 : 5));
-  PetscCall(KSPGetPC(s->fieldsplit, &pc));
+  PetscCall(KSPSetType(ksp, KSPRICHARDSON));
+  PetscCall(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
+  PetscCall(KSPSetTolerances(ksp, s->rtol, 0.0, PETSC_DEFAULT, gamg ? 30 : 5));
+  PetscCall(KSPGetPC(ksp, &pc));
   /* The type first: PCFieldSplitSetIS does nothing on another PC type. */
   PetscCall(PCSetType(pc, PCFIELDSPLIT));
   PetscCall(PCFieldSplitSetIS(pc, "r", mx->isr));
@@ -169,8 +185,8 @@ static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx)
   PetscCall(PCFieldSplitSetType(pc, PC_COMPOSITE_SCHUR));
   PetscCall(PCFieldSplitSetSchurFactType(pc, PC_FIELDSPLIT_SCHUR_FACT_FULL));
   PetscCall(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_USER, mx->S));
-  if (s->schur_gamg) PetscCall(BwSolverNearNullSpace(mx));
-  PetscCall(KSPSetFromOptions(s->fieldsplit));
+  if (gamg) PetscCall(BwSolverNearNullSpace(mx));
+  PetscCall(KSPSetFromOptions(ksp));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -205,14 +221,14 @@ static PetscErrorCode BwSolverSetUpDirect(BwSolver s, BwMixed mx)
  * An iterative Schur solve (CG + GAMG) therefore iterates on S^ itself:
  * measured on a 5e4-block wall, 13 s of matrix-free products became 0.3 s.
  * A factored Schur solve (preonly) never applies the operator. */
-static PetscErrorCode BwSolverSchurOperator(BwSolver s, BwMixed mx)
+static PetscErrorCode BwSolverSchurOperator(KSP ksp, BwMixed mx)
 {
   PC       pc;
   KSP     *sub;
   PetscInt n;
 
   PetscFunctionBeginUser;
-  PetscCall(KSPGetPC(s->fieldsplit, &pc));
+  PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCFieldSplitSchurGetSubKSP(pc, &n, &sub));
   PetscCall(KSPSetOperators(sub[1], mx->S, mx->S));
   PetscCall(PetscFree(sub));
@@ -273,7 +289,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
   PetscCall(VecZeroEntries(mx->x));
   PetscCall(BwLogBegin(log, BW_PHASE_SETUP));
   ierr = KSPSetUp(ksp);
-  if (!ierr && ksp == s->fieldsplit) ierr = BwSolverSchurOperator(s, mx);
+  if (!ierr && (ksp == s->fieldsplit || ksp == s->cholesky)) ierr = BwSolverSchurOperator(ksp, mx);
   PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
   PetscCall(BwLogBegin(log, BW_PHASE_SOLVE));
   if (!ierr) ierr = KSPSolve(ksp, mx->b, mx->x);
@@ -366,7 +382,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   if (s->requested != BW_METHOD_DIRECT) {
-    PetscCall(BwSolverSetUpFieldsplit(s, mx));
+    PetscCall(BwSolverSetUpFieldsplit(s, mx, &s->fieldsplit, NULL, s->schur_gamg));
     s->used = BW_METHOD_FIELDSPLIT;
     PetscCall(BwSolverRun(s, mx, log, s->fieldsplit, "fieldsplit", &ok, &usable, reason, sizeof(reason)));
     if (!ok) {
@@ -383,7 +399,25 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
       }
     }
   }
-  if (!ok && s->requested != BW_METHOD_FIELDSPLIT) {
+  if (!ok && s->requested == BW_METHOD_AUTO && s->schur_gamg) {
+    char why[512];
+    PetscCall(BwSolverSetUpFieldsplit(s, mx, &s->cholesky, "cholesky_", PETSC_FALSE));
+    s->used = BW_METHOD_FIELDSPLIT;
+    PetscCall(BwSolverRun(s, mx, log, s->cholesky, "fieldsplit with MUMPS Cholesky of S^", &ok, &usable, why, sizeof(why)));
+    if (!ok && usable && (!best || s->check.residual < best_check.residual)) {
+      if (!best) PetscCall(VecDuplicate(mx->x, &best));
+      PetscCall(VecCopy(mx->x, best));
+      best_check  = s->check;
+      best_method = BW_METHOD_FIELDSPLIT;
+      best_its    = s->iterations;
+    }
+    if (!ok) PetscCall(PetscStrncpy(reason, why, sizeof(reason)));
+  }
+  if (!ok && s->requested != BW_METHOD_FIELDSPLIT && !s->direct_fits) {
+    /* the assembled saddle matrix and its factors would not fit */
+    PetscCall(PetscStrlcat(reason, "; the direct path was not tried: the saddle matrix of this many blocks does not fit in memory", sizeof(reason)));
+  }
+  if (!ok && s->requested != BW_METHOD_FIELDSPLIT && s->direct_fits) {
     PetscCall(BwSolverSetUpDirect(s, mx));
     s->used = BW_METHOD_DIRECT;
     PetscCall(BwSolverRun(s, mx, log, s->direct, "direct (MUMPS)", &ok, &usable, reason, sizeof(reason)));
@@ -424,13 +458,15 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
   s->ran_fieldsplit = s->fieldsplit ? PETSC_TRUE : PETSC_FALSE;
   s->ran_direct     = s->direct ? PETSC_TRUE : PETSC_FALSE;
   s->ran_condensed  = s->condensed ? PETSC_TRUE : PETSC_FALSE;
+  s->ran_cholesky   = s->cholesky ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(KSPDestroy(&s->cholesky));
   PetscCall(KSPDestroy(&s->fieldsplit));
   PetscCall(KSPDestroy(&s->direct));
   PetscCall(KSPDestroy(&s->condensed));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwSolverGetIdlePrefixes(BwSolver s, PetscInt *n, const char *prefixes[4])
+PetscErrorCode BwSolverGetIdlePrefixes(BwSolver s, PetscInt *n, const char *prefixes[6])
 {
   PetscFunctionBeginUser;
   *n = 0;
@@ -441,5 +477,6 @@ PetscErrorCode BwSolverGetIdlePrefixes(BwSolver s, PetscInt *n, const char *pref
   }
   if (!s->ran_direct) prefixes[(*n)++] = "direct_";
   if (!s->ran_condensed) prefixes[(*n)++] = "condensed_";
+  if (!s->ran_cholesky) prefixes[(*n)++] = "cholesky_";
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -14,8 +14,10 @@
  *               by MUMPS Cholesky, then r~ = D^ q~ - b_r (the stresses recovered
  *               from the displacements). Prefix: -condensed_. Not a fallback.
  *   auto        fieldsplit; if its KSP fails or the true residual of the
- *               full system misses solver.rtol, direct, and the reason is
- *               recorded. If every path misses rtol but stays within
+ *               full system misses solver.rtol: when the Schur solve was CG +
+ *               GAMG, fieldsplit again with S^ factored by MUMPS (prefix
+ *               -cholesky_); then direct, for assemblies small enough for
+ *               it (below 2e5 blocks). The reason is recorded. If every path misses rtol but stays within
  *               sqrt(rtol), the best answer is kept with a warning.
  * Defaults are set in code (or inserted into the options database when
  * absent, for the sub-solvers PETSc creates itself) and every option
@@ -34,8 +36,9 @@ struct _n_BwSolver {
   PetscReal rtol;
   PetscBool schur_gamg;
   BwStorage storage; /* solver.storage */
-  KSP       fieldsplit, direct, condensed; /* destroyed when the solve is done */
-  PetscBool ran_fieldsplit, ran_direct, ran_condensed;
+  KSP       fieldsplit, cholesky, direct, condensed; /* destroyed when the solve is done */
+  PetscBool ran_fieldsplit, ran_cholesky, ran_direct, ran_condensed;
+  PetscBool direct_fits; /* small enough for MUMPS on the whole saddle matrix */
   /* outcome */
   BwMethod  used;
   PetscBool fallback;
@@ -46,7 +49,7 @@ struct _n_BwSolver {
   BwCheck   check;
   /* options this object inserted as defaults; cleared again if unused */
   PetscInt ndefaults;
-  char     defaults[16][96];
+  char     defaults[24][96];
 };
 
 PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver);
@@ -56,5 +59,5 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene, PetscInt n
 PetscErrorCode BwSolverSolve(BwSolver solver, BwMixed mixed, BwLog *log);
 /* Option prefixes of paths that did not run (their options are legitimately
  * unused), for BwSceneCheckUnused. */
-PetscErrorCode BwSolverGetIdlePrefixes(BwSolver solver, PetscInt *n, const char *prefixes[4]);
+PetscErrorCode BwSolverGetIdlePrefixes(BwSolver solver, PetscInt *n, const char *prefixes[6]);
 PetscErrorCode BwSolverDestroy(BwSolver *solver);

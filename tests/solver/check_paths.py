@@ -6,6 +6,10 @@
             Schur solve) makes `auto` fall back to direct, records it in
             /solver, and the answer is still the closed form's
   strict    the same failure with solver.method: fieldsplit is an error
+  gamg_fallback  on the demo wall, a CG+GAMG fieldsplit forced to fail (one
+            outer step) falls back first to the fieldsplit with S^ factored
+            by MUMPS, which answers: recorded in /solver, equal to the direct
+            path's answer to 1e-10
   warn      a tolerance below double precision's reach (rtol 1e-18) is missed
             by every path: the run still writes the best answer, says so on
             stdout (WARNING) and in /solver (accuracy_met 0, warning), and
@@ -80,6 +84,20 @@ def wall():
               f"({res['solver']['method_used']}, {res['solver']['iterations']} iterations, residual {res['solver']['residual']:.1e})")
 
 
+def gamg_fallback():
+    # on two blocks GAMG is a direct solve; the demo wall needs iterations
+    from bwrun import solve
+    scene = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
+    ref = solve(scene, ["-solver_method", "direct"])
+    res = solve(scene, ["-solver_schur", "gamg", "-ksp_max_it", 1])
+    s = res["solver"]
+    expect(s["fallback"] == 1 and s["method_used"] == "fieldsplit", f"no Cholesky fallback: {s}")
+    expect("DIVERGED_ITS" in s["fallback_reason"], f"reason {s['fallback_reason']!r}")
+    e = rel_err(res["blocks/displacement"], ref["blocks/displacement"])
+    expect(e < 1e-10, f"answer vs the direct path {e:.2e}")
+    print(f"CG+GAMG failure caught by the Cholesky fieldsplit: {s['fallback_reason']}; error {e:.1e}")
+
+
 def warn():
     from bwrun import solve
     res, (q_ref, _) = run_case(2, args=["-solver_rtol", "1e-18"])
@@ -98,7 +116,7 @@ def warn():
 
 if __name__ == "__main__":
     try:
-        {"warn": warn, "agree": agree, "fallback": fallback, "strict": strict, "wall": wall}[sys.argv[1]]()
+        {"gamg_fallback": gamg_fallback, "warn": warn, "agree": agree, "fallback": fallback, "strict": strict, "wall": wall}[sys.argv[1]]()
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
