@@ -93,8 +93,28 @@ def check_case(case):
     return err_q, err_s
 
 
+def check_gravity():
+    """Self-weight: -density * 9.81 * area * depth on F2 of every block. The
+    top block (l x a) of density 2000 kg/m^3 adds F2 = -2000 * 9.81 * l a s
+    to its load; u2 = F2_total / (kn A), the rest as the closed form."""
+    l, a, f1, f2 = TAB1[2]
+    rho = 2000.0
+    res = solve(SCENE, ["-gravity_density", rho, "-loads_top", f"{f1},{f2},0"])
+    w = -rho * 9.81 * l * a * S
+    load = res["blocks/load"]
+    expect(abs(load[1, 1] - (f2 + w)) <= 1e-12 * abs(f2 + w) and abs(load[0, 1] - w) <= 1e-12 * abs(w),
+           f"self-weight in /blocks/load: {load}")
+    q_ref, _ = closed_form(l, a, f1, f2 + w)
+    err = rel_err(res["blocks/displacement"][1], q_ref)
+    expect(err < 1e-10, f"gravity: displacement vs closed form {err:.2e}")
+    print(f"gravity: self-weight {w:.4f} N per block, displacement vs closed form {err:.1e}")
+
+
 if __name__ == "__main__":
     try:
+        if sys.argv[1:] == ["gravity"]:
+            check_gravity()
+            sys.exit(0)
         worst = [0.0, 0.0]
         for c in map(int, sys.argv[1:] or TAB1):
             eq, es = check_case(c)
