@@ -57,8 +57,21 @@ FIELDS = ["scene", "sweep", "m", "path", "rtol", "status", "seconds", "seconds_t
           "residual", "method_used", "fallback", "err_displacement", "err_stress", "err_stress_mid", "note"]
 
 
-def run_blockwall(exe, scene, args, out, ranks=1, timeout=3600):
-    """One run; its /solver attributes, or {"status": "failed", "note": stderr}."""
+def run_blockwall(exe, scene, args, out, ranks=1, timeout=3600, repeat=1):
+    """One configuration, run `repeat` times (the fastest counts: timings of
+    millisecond runs are noise); its /solver attributes, or {"status":
+    "failed", "note": stderr}."""
+    best = None
+    for _ in range(max(1, repeat)):
+        s = run_once(exe, scene, args, out, ranks, timeout)
+        if s["status"] != "ok":
+            return s
+        if best is None or s["seconds"] < best["seconds"]:
+            best = s
+    return best
+
+
+def run_once(exe, scene, args, out, ranks, timeout):
     cmd = [exe, "-scene", scene, *map(str, args), "-output_file", out, "-output_xdmf", "0", "-output_stresses", "1"]
     if ranks > 1:
         cmd = ["mpiexec", "-n", str(ranks), *cmd]
@@ -130,7 +143,7 @@ def stress_errors(res, relative):
     return float(e_field / scale), float(e_mid / scale)
 
 
-def sweep(exe, ref_exe, scene, ms, paths, rtols, m_rtol=16, args=(), ranks=1, timeout=3600, log=print):
+def sweep(exe, ref_exe, scene, ms, paths, rtols, m_rtol=16, args=(), ranks=1, timeout=3600, log=print, repeat=1):
     """Run the sweeps and return the rows of the CSV and a summary dict.
 
     sweep "m":    every path at solver.rtol 1e-10 (the default) for each m,
@@ -145,7 +158,7 @@ def sweep(exe, ref_exe, scene, ms, paths, rtols, m_rtol=16, args=(), ranks=1, ti
         for m in ms:
             for path in paths:
                 out = os.path.join(tmp, "run.h5")
-                s = run_blockwall(exe, scene, [*args, "-discretization_m", m, *PATHS[path]], out, ranks, timeout)
+                s = run_blockwall(exe, scene, [*args, "-discretization_m", m, *PATHS[path]], out, ranks, timeout, repeat)
                 row = {"scene": name, "sweep": "m", "m": m, "path": path, "rtol": s.get("rtol", 1e-10), **s}
                 if s["status"] == "ok":
                     res = read_result(out)
@@ -169,7 +182,7 @@ def sweep(exe, ref_exe, scene, ms, paths, rtols, m_rtol=16, args=(), ranks=1, ti
             for path in paths:
                 out = os.path.join(tmp, "run.h5")
                 s = run_blockwall(exe, scene, [*args, "-discretization_m", m_rtol, "-solver_rtol", rtol, *PATHS[path]],
-                                  out, ranks, timeout)
+                                  out, ranks, timeout, repeat)
                 row = {"scene": name, "sweep": "rtol", "m": m_rtol, "path": path, **s, "rtol": rtol}
                 if s["status"] == "ok":
                     res = read_result(out)
