@@ -5,14 +5,15 @@ measured against the real128 reference (bw_reference, about 3 minutes per
 wall); and the residual blockwall reports against wall size.
 
 For each wall: the default run (solver.method auto, rtol 1e-10), then each
-path on its own (fieldsplit, fieldsplit with CG+GAMG, direct, condensed);
+path on its own (fieldsplit, fieldsplit with CG+GAMG, direct, condensed,
+and the fieldsplit with exactly two Richardson steps: one refinement);
 a path that refuses with a named residual is run again with solver.rtol
 10 x that residual, so that every path's accuracy is measured. Errors as in
 tests/stability/check_stability.py: max norms, displacements with
 rotations times the wall's diagonal, stresses, relative to the largest
 reference value.
 
-usage: bench/stability_slow.py [--cases uniform,scaled_1e-6,...] [--out bench/stability_slow.md] [--sizes-only]
+usage: bench/stability_slow.py [--cases uniform,scaled_1e-6,...] [--out bench/stability_slow.md] [--sizes-only] [--no-sizes]
 Appends a dated section (machine, commit, table) to the output file.
 """
 import argparse
@@ -35,7 +36,9 @@ import check_stability as cs  # noqa: E402
 COURSES, UNITS = 100, 100  # 10 052 blocks, 29 951 interfaces
 PATHS = {"auto (default)": [], "fieldsplit": ["-solver_method", "fieldsplit"],
          "fieldsplit gamg": ["-solver_method", "fieldsplit", "-solver_schur", "gamg"],
-         "direct": ["-solver_method", "direct"], "condensed": ["-solver_method", "condensed"]}
+         "direct": ["-solver_method", "direct"], "condensed": ["-solver_method", "condensed"],
+         # exactly two Richardson steps: the Schur solve and one refinement on the mixed system
+         "fieldsplit, 2 steps": ["-solver_method", "fieldsplit", "-ksp_max_it", 2, "-ksp_norm_type", "none"]}
 
 
 def wall_case(tmp, kind, value):
@@ -164,6 +167,7 @@ def main():
     ap.add_argument("--cases", default=",".join(CASES))
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "stability_slow.md"))
     ap.add_argument("--sizes-only", action="store_true")
+    ap.add_argument("--no-sizes", action="store_true")
     a = ap.parse_args()
     cpu, ncpu, commit, dirty = machine()
     lines = [f"\n## {datetime.datetime.now():%Y-%m-%d %H:%M}: {cpu}, {ncpu} cores, 1 rank",
@@ -178,7 +182,8 @@ def main():
             what = CASES[name][2]
             for r in rows:
                 if r["rc"] != 0:
-                    lines.append(f"| {name}: {what} | {r['path']} | {r['rc']} | refused: {r['stderr'][:200]} | | | | | | |")
+                    verdict = "killed after" if r["rc"] == "timeout" else "refused:"
+                    lines.append(f"| {name}: {what} | {r['path']} | {r['rc']} | {verdict} {r['stderr'][:200].replace('killed after ', '')} | | | | | | |")
                     continue
                 lines.append(f"| {name}: {what} | {r['path']} | 0 | {r['err_q']:.1e} | {r['err_s']:.1e} | {r['residual']:.1e} | "
                              f"{r['rtol']:.0e}{' (relaxed)' if r['relaxed'] else ''} | {r['iterations']} | "
@@ -187,6 +192,11 @@ def main():
                 lines.append(f"| {name}: reference | real128 | | cond(K~) {ref['cond_mixed']:.1e} | ||x~||/||b~|| "
                              f"{ref['x_over_b']:.1e} | | | | | {ref['seconds']:.0f} |")
             sys.stdout.flush()
+    if a.no_sizes:
+        with open(a.out, "a") as f:
+            f.write("\n".join(lines) + "\n")
+        print(f"appended to {a.out}")
+        return
     lines += ["\nReported residual of uniform walls (kn = 1e11, m = 16, default settings) against size:\n",
               "| courses x units | blocks | residual | iterations | path | time [s] |", "|---|---|---|---|---|---|"]
     for r in sizes(print):

@@ -46,7 +46,7 @@ PetscErrorCode BwJointLawSetFromOptions(BwJointLaw *law, BwScene scene, const ch
   law->type = (BwJointLawType)type;
   if (law->type == BW_LAW_DRY && !sete && !parent) law->thickness = 0;
 
-  if (!(law->thickness >= 0 && PetscIsNormalReal(law->thickness + 1))) PetscCall(BwSceneError(scene, opt[1], "must be >= 0, got %g", (double)law->thickness));
+  if (!(law->thickness >= 0 && !PetscIsInfOrNanReal(law->thickness))) PetscCall(BwSceneError(scene, opt[1], "must be >= 0, got %g", (double)law->thickness));
   if (law->type == BW_LAW_MORTAR) {
     if (setkn) PetscCall(BwSceneError(scene, opt[4], "applies to law dry, but the law is mortar (give E and nu)"));
     if (setkt) PetscCall(BwSceneError(scene, opt[5], "applies to law dry, but the law is mortar (give E and nu)"));
@@ -131,7 +131,7 @@ PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene, const BwJoint
   PetscOptionsEnd();
   if (m < 1) PetscCall(BwSceneError(scene, "-discretization_m", "must be >= 1, got %" PetscInt_FMT, m));
   if (m > 1048576) PetscCall(BwSceneError(scene, "-discretization_m", "must be <= 1048576, got %" PetscInt_FMT, m));
-  if (!(density >= 0 && PetscIsNormalReal(density + 1))) PetscCall(BwSceneError(scene, "-gravity_density", "must be >= 0, got %g", (double)density));
+  if (!(density >= 0 && !PetscIsInfOrNanReal(density))) PetscCall(BwSceneError(scene, "-gravity_density", "must be >= 0, got %g", (double)density));
   model->m               = m;
   model->gravity_density = density;
 
@@ -152,7 +152,7 @@ PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene, const BwJoint
       PetscCall(PetscSNPrintf(opt, sizeof(opt), "-supports_%s_%s", g->setname[s], BwDofNames[c]));
       PetscCall(PetscOptionsReal(opt, "Prescribed dof of every block of the set [m or rad]", NULL, v, &v, &set));
       if (!set) continue;
-      if (!PetscIsNormalReal(v + 1)) PetscCall(BwSceneError(scene, opt, "must be a finite number, got %g", (double)v));
+      if (PetscIsInfOrNanReal(v)) PetscCall(BwSceneError(scene, opt, "must be a finite number, got %g", (double)v));
       for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++) {
         PetscInt b = g->setblocks[q];
         if (model->prescribed[3 * b + c] && model->value[3 * b + c] != v)
@@ -181,7 +181,7 @@ PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene, const BwJoint
     if (!set) continue;
     if (n != 3) PetscCall(BwSceneError(scene, opt, "must have 3 values F1, F2, M3, got %" PetscInt_FMT, n));
     for (PetscInt c = 0; c < 3; c++)
-      if (!PetscIsNormalReal(f[c] + 1)) PetscCall(BwSceneError(scene, opt, "must hold finite numbers, got %g", (double)f[c]));
+      if (PetscIsInfOrNanReal(f[c])) PetscCall(BwSceneError(scene, opt, "must hold finite numbers, got %g", (double)f[c]));
     for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++)
       for (PetscInt c = 0; c < 3; c++) model->load[3 * g->setblocks[q] + c] += f[c];
   }

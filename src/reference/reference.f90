@@ -21,6 +21,9 @@
 ! prescribed values). With eps_128 = 1.9e-34, the reference's own error is
 ! about cond(K) * eps_128 * n, far below any double-precision error while
 ! cond(K) < 1e25; it is reported so that a test can check it.
+! The limit m -> infinity (exact = 1) replaces the m portions by the exact
+! integral over the interface, two-point Gauss-Legendre (the integrand is
+! quadratic in x), i.e. the exact interface stiffness diag(kt A, kn A, kn I).
 !
 ! Error measures of a double-precision solution (q_f, r_f), all in real128:
 !   the scaled norm blockwall uses (README "How the answer is checked"):
@@ -32,7 +35,10 @@
 !   the true residual ||b~ - K~ x~_f|| / ||b~||, b~ = (0, diag(K)^-1/2 F);
 !   the condition number of K~ from the extreme eigenvalues of S^
 !   (sigma^2 of D^): K~ has eigenvalues (-1 +- sqrt(1 + 4 sigma^2))/2 and
-!   -1 on the orthogonal complement of range(D^).
+!   -1 on the orthogonal complement of range(D^); the extreme eigenvalues
+!   come from 30 steps of power and of inverse iteration (Rayleigh
+!   quotients: the estimate is a lower bound; 2 % below that of 60 steps
+!   on a 1e3-block wall).
 module bw_reference_solver
   use, intrinsic :: iso_c_binding, only: c_double, c_int, c_int64_t, c_int8_t
   use, intrinsic :: iso_fortran_env, only: real128
