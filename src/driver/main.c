@@ -143,6 +143,13 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
     PetscCall(PetscPrintf(comm, "  method: %s (requested %s), iterations %" PetscInt_FMT "%s%s\n", BwMethods[s->used], BwMethods[s->requested], s->iterations, s->fallback ? ", fallback: " : "", s->fallback_reason));
     PetscCall(PetscPrintf(comm, "  residual %.3e (equilibrium %.3e, compatibility %.3e; rtol %.1e)\n", (double)s->check.residual, (double)s->check.equilibrium, (double)s->check.compatibility, (double)s->rtol));
     PetscCall(PetscPrintf(comm, "  equilibrium error (reactions + loads) %.3e\n", (double)s->check.equilibrium_error));
+    if (s->forward_estimate >= 0 || s->condition_estimate > 0) {
+      PetscCall(PetscPrintf(comm, "  estimated displacement error "));
+      if (s->forward_estimate >= 0) PetscCall(PetscPrintf(comm, "%.1e (forward_rtol %.1e)", (double)s->forward_estimate, (double)s->forward_rtol));
+      else PetscCall(PetscPrintf(comm, "not estimated"));
+      if (s->condition_estimate > 0) PetscCall(PetscPrintf(comm, "; condition estimate %.1e", (double)s->condition_estimate));
+      PetscCall(PetscPrintf(comm, "\n"));
+    }
     if (!s->accuracy_met) PetscCall(PetscPrintf(comm, "  WARNING: %s\n", s->warning));
     PetscCall(PetscPrintf(comm, "  time [s]:"));
     for (int p = 0; p < BW_NPHASES; p++) PetscCall(PetscPrintf(comm, " %s %.3f,", BwPhaseNames[p], log.seconds[p]));

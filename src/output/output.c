@@ -338,6 +338,9 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed 
   PetscCall(BwH5AttrDouble(grp, "residual", s->check.residual));
   PetscCall(BwH5AttrDouble(grp, "residual_equilibrium", s->check.equilibrium));
   PetscCall(BwH5AttrDouble(grp, "residual_compatibility", s->check.compatibility));
+  PetscCall(BwH5AttrDouble(grp, "forward_rtol", s->forward_rtol));
+  PetscCall(BwH5AttrDouble(grp, "forward_error_estimate", s->forward_estimate));
+  PetscCall(BwH5AttrDouble(grp, "condition_estimate", s->condition_estimate));
   PetscCall(BwH5AttrDouble(grp, "equilibrium_error", s->check.equilibrium_error));
   PetscCall(BwH5AttrInt(grp, "ranks", size));
   PetscCall(BwH5AttrInt(grp, "unknowns_q", mx->nq_global));

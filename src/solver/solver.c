@@ -16,6 +16,10 @@ PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver)
   (*solver)->requested = BW_METHOD_AUTO;
   (*solver)->rtol      = 1e-10;
   (*solver)->storage   = BW_STORAGE_SHELL;
+  (*solver)->forward_rtol       = -1; /* = rtol unless set */
+  (*solver)->forward_estimate   = -1;
+  (*solver)->condition_estimate = -1;
+  (*solver)->estimate_condition = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -27,6 +31,9 @@ PetscErrorCode BwSolverDestroy(BwSolver *solver)
   PetscCall(KSPDestroy(&(*solver)->direct));
   PetscCall(KSPDestroy(&(*solver)->condensed));
   PetscCall(KSPDestroy(&(*solver)->cholesky));
+  PetscCall(VecDestroy(&(*solver)->fw_weight));
+  PetscCall(VecDestroy(&(*solver)->fw_prev));
+  PetscCall(VecDestroy(&(*solver)->fw_work));
   PetscCall(PetscFree(*solver));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -48,6 +55,7 @@ static PetscErrorCode BwSolverDefault(BwSolver s, const char name[], const char 
 PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene, PetscInt nblocks)
 {
   PetscInt                 method = s->requested, schur = 0, storage = s->storage;
+  PetscBool                fset;
   static const char *const schurs[] = {"auto", "cholesky", "gamg", "BwSchur", "BW_SCHUR_", NULL};
 
   PetscFunctionBeginUser;
@@ -55,10 +63,14 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene, PetscInt nblock
   PetscCall(PetscOptionsEList("-solver_method", "auto (fieldsplit, MUMPS on failure), fieldsplit, direct, or condensed (benchmark reference)", NULL, BwMethods, 4, BwMethods[method], &method, NULL));
   PetscCall(PetscOptionsReal("-solver_rtol", "Required relative true residual of the full mixed system (scaled)", NULL, s->rtol, &s->rtol, NULL));
   PetscCall(PetscOptionsEList("-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 2e5 blocks, gamg above), cholesky (MUMPS) or gamg (CG+GAMG)", NULL, schurs, 3, schurs[schur], &schur, NULL));
+  PetscCall(PetscOptionsReal("-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", NULL, s->forward_rtol, &s->forward_rtol, &fset));
+  PetscCall(PetscOptionsBool("-solver_condition_estimate", "Estimate the 1-norm condition number of the factored operator (S^, or K~ on the direct path; a few extra solves with the factor)", NULL, s->estimate_condition, &s->estimate_condition, NULL));
   PetscCall(PetscOptionsEList("-solver_storage", "Saddle operator storage: shell (D^ by its structure), nest (D^ assembled) or aij (one assembled matrix)", NULL, BwStorages, 3, BwStorages[storage], &storage, NULL));
   PetscOptionsEnd();
   s->storage = (BwStorage)storage;
   if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
+  if (!fset) s->forward_rtol = s->rtol;
+  if (!(s->forward_rtol > 0 && s->forward_rtol <= 1)) PetscCall(BwSceneError(scene, "-solver_forward_rtol", "must be in (0, 1], got %g", (double)s->forward_rtol));
   s->requested  = (BwMethod)method;
   /* By size: MUMPS Cholesky of S^ is exact and robust to stiffness
    * contrast, and as fast as CG + GAMG up to ~1e5 blocks (4.5 s vs 4.1 s at
@@ -157,6 +169,206 @@ static PetscErrorCode BwSolverNearNullSpace(BwMixed mx)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Forward error of the displacements, estimated from the refinement.
+ *
+ * A residual that meets rtol does not bound the error once the system is
+ * ill-conditioned: on walls whose joints differ by 1e6..1e9 the first step
+ * (the condensed solve, whose assembled S^ adds soft joints to stiff ones)
+ * met rtol with displacements wrong by 1e-7 (docs/accuracy.md). Each
+ * Richardson step is a step of iterative refinement on the full mixed
+ * system, and its correction x_k - x_{k-1} measures the error x_{k-1} had:
+ *   it = 1: nothing known yet (the correction is x_1 itself);
+ *   it = 2: the correction, an upper estimate of x_2's error;
+ *   it > 2: the correction times rho / (1 - rho), rho the ratio of the last
+ *           two corrections (linear convergence), capped at the correction.
+ * At the round-off floor of an ill-conditioned system the corrections stop
+ * shrinking (rho ~ 1) and the estimate stays at the error that remains. The
+ * norm is the one the stability suite measures with: max norm of the
+ * physical displacements, rotations times the assembly's diagonal, relative
+ * to the largest. Only the q part is kept (3 values per block): a copy of
+ * the stresses would cost 2m values per interface. */
+static PetscErrorCode BwSolverForwardSetUp(BwSolver s, BwMixed mx)
+{
+  BwGeometry geom = mx->geom;
+  PetscReal  lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, size;
+
+  PetscFunctionBeginUser;
+  s->mx = mx;
+  if (s->fw_weight) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt v = 0; v < geom->nvertices; v++)
+    for (PetscInt c = 0; c < 2; c++) {
+      lo[c] = PetscMin(lo[c], geom->vertices[2 * v + c]);
+      hi[c] = PetscMax(hi[c], geom->vertices[2 * v + c]);
+    }
+  size = PetscSqrtReal(PetscSqr(hi[0] - lo[0]) + PetscSqr(hi[1] - lo[1]));
+  PetscCall(MatCreateVecs(mx->S, &s->fw_weight, NULL));
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt         b = mx->own_blocks[e];
+    const PetscReal *sc;
+    PetscCall(BwMixedQScale(mx, b, &sc));
+    for (PetscInt c = 0; c < 3; c++) {
+      PetscInt row = mx->sdof[3 * b + c];
+      /* q = diag(S)^-1/2 q~ */
+      if (row >= 0) PetscCall(VecSetValue(s->fw_weight, row, sc[c] * (c == 2 ? size : 1), INSERT_VALUES));
+    }
+  }
+  PetscCall(VecAssemblyBegin(s->fw_weight));
+  PetscCall(VecAssemblyEnd(s->fw_weight));
+  PetscCall(VecDuplicate(s->fw_weight, &s->fw_prev));
+  PetscCall(VecDuplicate(s->fw_weight, &s->fw_work));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  BwSolver s;
+  void    *dflt; /* KSPConvergedDefault's context */
+} BwConvergedCtx;
+
+/* PETSc 3.18's destroy signature (void *); KSPConvergedDefaultDestroy frees its own context. */
+static PetscErrorCode BwConvergedCtxDestroy(void *ctx)
+{
+  BwConvergedCtx *c = (BwConvergedCtx *)ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPConvergedDefaultDestroy(c->dflt));
+  PetscCall(PetscFree(c));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The residual test of PETSc (rtol on the true residual), and then the
+ * forward estimate must meet solver.forward_rtol: a step is added while it
+ * does not, up to the KSP's iteration limit. */
+static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, KSPConvergedReason *reason, void *ctx)
+{
+  BwConvergedCtx *c  = (BwConvergedCtx *)ctx;
+  BwSolver        s  = c->s;
+  BwMixed         mx = s->mx;
+  Vec             x, xq;
+  PetscReal       dn, qn, rel, est;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPConvergedDefault(ksp, it, rnorm, reason, c->dflt));
+  if (it == 0) {
+    PetscCall(VecZeroEntries(s->fw_prev)); /* x_0 = 0 */
+    s->fw_last          = -1;
+    s->fw_it            = 0;
+    s->forward_estimate = rnorm == 0 ? 0 : PETSC_INFINITY;
+  } else if (it != s->fw_it) {
+    PetscCall(KSPGetSolution(ksp, &x));
+    PetscCall(VecGetSubVector(x, mx->isq, &xq));
+    PetscCall(VecWAXPY(s->fw_work, -1.0, s->fw_prev, xq));
+    PetscCall(VecPointwiseMult(s->fw_work, s->fw_work, s->fw_weight));
+    PetscCall(VecNorm(s->fw_work, NORM_INFINITY, &dn));
+    PetscCall(VecCopy(xq, s->fw_prev));
+    PetscCall(VecPointwiseMult(s->fw_work, xq, s->fw_weight));
+    PetscCall(VecNorm(s->fw_work, NORM_INFINITY, &qn));
+    PetscCall(VecRestoreSubVector(x, mx->isq, &xq));
+    rel = qn > 0 ? dn / qn : (dn > 0 ? PETSC_INFINITY : 0);
+    if (it == 1) est = rel == 0 ? 0 : PETSC_INFINITY;
+    else if (it == 2 || !(s->fw_last > 0)) est = rel;
+    else {
+      PetscReal rho = rel / s->fw_last;
+      est           = rho < 0.5 ? rel * rho / (1 - rho) : rel;
+    }
+    s->fw_last          = rel;
+    s->fw_it            = it;
+    s->forward_estimate = est;
+  }
+  if (*reason > 0 && !(s->forward_estimate <= s->forward_rtol)) *reason = KSP_CONVERGED_ITERATING;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwSolverSetConvergenceTest(BwSolver s, KSP ksp)
+{
+  BwConvergedCtx *c;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&c));
+  c->s = s;
+  PetscCall(KSPConvergedDefaultCreate(&c->dflt));
+  PetscCall(KSPSetConvergenceTest(ksp, BwSolverConverged, c, BwConvergedCtxDestroy));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* 1-norm condition number of a symmetric A from its factor (pc applies
+ * A^-1): Hager's estimator as refined by Higham (LAPACK's xLACN2), at most
+ * four pairs of solves, with Higham's alternating vector as a second guess.
+ * The estimate is a lower bound, in practice within a factor 3. */
+static PetscErrorCode BwSolverConditionEstimate(PC pc, Mat A, PetscReal *cond)
+{
+  Vec       x, y, z;
+  PetscInt  N, lo, hi, j;
+  PetscReal anorm, est = 0, ynorm, zmax, alt;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateVecs(A, &x, &y));
+  PetscCall(VecDuplicate(x, &z));
+  PetscCall(VecGetSize(x, &N));
+  PetscCall(VecGetOwnershipRange(x, &lo, &hi));
+  PetscCall(MatNorm(A, NORM_1, &anorm));
+  PetscCall(VecSet(x, 1.0 / N));
+  for (PetscInt k = 0; k < 4; k++) {
+    PetscScalar *a, ztx;
+    PetscCall(PCApply(pc, x, y));
+    PetscCall(VecNorm(y, NORM_1, &ynorm));
+    if (k > 0 && ynorm <= est) break;
+    est = ynorm;
+    PetscCall(VecGetArray(y, &a));
+    for (PetscInt i = 0; i < hi - lo; i++) a[i] = PetscRealPart(a[i]) >= 0 ? 1.0 : -1.0;
+    PetscCall(VecRestoreArray(y, &a));
+    PetscCall(PCApply(pc, y, z)); /* A symmetric: A^-T = A^-1 */
+    PetscCall(VecDot(z, x, &ztx));
+    PetscCall(VecAbs(z));
+    PetscCall(VecMax(z, &j, &zmax));
+    if (k > 0 && zmax <= PetscRealPart(ztx)) break;
+    PetscCall(VecZeroEntries(x));
+    if (j >= lo && j < hi) PetscCall(VecSetValue(x, j, 1.0, INSERT_VALUES));
+    PetscCall(VecAssemblyBegin(x));
+    PetscCall(VecAssemblyEnd(x));
+  }
+  {
+    PetscScalar *a;
+    PetscCall(VecGetArray(x, &a));
+    for (PetscInt i = lo; i < hi; i++) a[i - lo] = (i % 2 ? -1.0 : 1.0) * (1.0 + (N > 1 ? (PetscReal)i / (N - 1) : 0));
+    PetscCall(VecRestoreArray(x, &a));
+    PetscCall(PCApply(pc, x, y));
+    PetscCall(VecNorm(y, NORM_1, &alt));
+    est = PetscMax(est, 2 * alt / (3.0 * N));
+  }
+  *cond = anorm * est;
+  PetscCall(VecDestroy(&x));
+  PetscCall(VecDestroy(&y));
+  PetscCall(VecDestroy(&z));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The factor a path used (the Schur complement's on fieldsplit, the whole
+ * system's on direct) and the matrix it factors; NULL when the path
+ * factored nothing (CG + GAMG). */
+static PetscErrorCode BwSolverGetFactorPC(KSP ksp, PC *fpc, Mat *A)
+{
+  PC        pc;
+  PetscBool fs, factor;
+
+  PetscFunctionBeginUser;
+  *fpc = NULL;
+  *A   = NULL;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
+  if (fs) {
+    KSP     *sub;
+    PetscInt n;
+    PetscCall(PCFieldSplitSchurGetSubKSP(pc, &n, &sub));
+    PetscCall(KSPGetPC(sub[1], &pc));
+    PetscCall(PetscFree(sub));
+  }
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
+  *fpc = pc;
+  PetscCall(PCGetOperators(pc, A, NULL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx, KSP *kspp, const char prefix[], PetscBool gamg)
 {
   PC  pc;
@@ -187,6 +399,7 @@ static PetscErrorCode BwSolverSetUpFieldsplit(BwSolver s, BwMixed mx, KSP *kspp,
   PetscCall(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_USER, mx->S));
   if (gamg) PetscCall(BwSolverNearNullSpace(mx));
   PetscCall(KSPSetFromOptions(ksp));
+  PetscCall(BwSolverSetConvergenceTest(s, ksp));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -212,6 +425,7 @@ static PetscErrorCode BwSolverSetUpDirect(BwSolver s, BwMixed mx)
   PetscCall(PCSetType(pc, PCLU));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(KSPSetFromOptions(s->direct));
+  PetscCall(BwSolverSetConvergenceTest(s, s->direct));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -240,22 +454,13 @@ static PetscErrorCode BwSolverSchurOperator(KSP ksp, BwMixed mx)
 static PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
 {
   PC        pc;
-  Mat       F;
-  PetscBool factor, fs, mumps = PETSC_FALSE;
+  Mat       A, F;
+  PetscBool mumps = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   *npiv = 0;
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &fs));
-  if (fs) {
-    KSP     *sub;
-    PetscInt n;
-    PetscCall(PCFieldSplitSchurGetSubKSP(pc, &n, &sub));
-    PetscCall(KSPGetPC(sub[1], &pc));
-    PetscCall(PetscFree(sub));
-  }
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
-  if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(BwSolverGetFactorPC(ksp, &pc, &A));
+  if (!pc) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PCFactorGetMatrix(pc, &F));
   {
     MatSolverType type;
@@ -284,8 +489,10 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
   PetscInt           npiv = 0;
 
   PetscFunctionBeginUser;
-  *ok     = PETSC_FALSE;
-  *usable = PETSC_FALSE;
+  *ok                   = PETSC_FALSE;
+  *usable               = PETSC_FALSE;
+  s->forward_estimate   = -1; /* not estimated unless the convergence test runs */
+  s->condition_estimate = -1;
   PetscCall(VecZeroEntries(mx->x));
   PetscCall(BwLogBegin(log, BW_PHASE_SETUP));
   ierr = KSPSetUp(ksp);
@@ -293,6 +500,22 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
   PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
   PetscCall(BwLogBegin(log, BW_PHASE_SOLVE));
   if (!ierr) ierr = KSPSolve(ksp, mx->b, mx->x);
+  /* The condition of what was factored, while the factor is there: a few
+   * solves with it, and the one number that says how far a small residual
+   * can be from a small error. Not on a failed or singular factor. */
+  if (!ierr && s->estimate_condition) {
+    PC             fpc, pc;
+    Mat            A;
+    PCFailedReason pcr;
+    PetscCall(KSPGetConvergedReason(ksp, &kr));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCGetFailedReason(pc, &pcr));
+    if (pcr == PC_NOERROR && (kr > 0 || kr == KSP_DIVERGED_ITS)) PetscCall(BwSolverNullPivots(ksp, &npiv));
+    if (pcr == PC_NOERROR && (kr > 0 || kr == KSP_DIVERGED_ITS) && npiv == 0) {
+      PetscCall(BwSolverGetFactorPC(ksp, &fpc, &A));
+      if (fpc) PetscCall(BwSolverConditionEstimate(fpc, A, &s->condition_estimate));
+    }
+  }
   PetscCall(BwLogEnd(log, BW_PHASE_SOLVE));
   if (ierr) {
     const char *text;
@@ -303,21 +526,28 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
   PetscCall(KSPGetConvergedReason(ksp, &kr));
   PetscCall(KSPGetIterationNumber(ksp, &s->iterations));
   PetscCall(BwMixedCheck(mx, mx->x, NULL, &s->check));
-  if (kr < 0) {
+  {
     PC             pc;
     PCFailedReason pcr = PC_NOERROR;
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCGetFailedReason(pc, &pcr));
-    /* stagnation at the round-off floor of an ill-conditioned system */
-    *usable = (pcr == PC_NOERROR && (kr == KSP_DIVERGED_ITS || kr == KSP_DIVERGED_DTOL) && s->check.residual <= PetscSqrtReal(s->rtol)) ? PETSC_TRUE : PETSC_FALSE;
-    PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
-  } else if (BwSolverNullPivots(ksp, &npiv) == PETSC_SUCCESS && npiv > 0) {
-    PetscCall(PetscSNPrintf(reason, len, "%s: MUMPS found %" PetscInt_FMT " null pivot%s (a singular system)", name, npiv, npiv > 1 ? "s" : ""));
-  } else if (!(s->check.residual <= s->rtol)) {
-    PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses solver.rtol %.3e", name, (double)s->check.residual, (double)s->rtol));
-    *usable = s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
-  } else *ok = *usable = PETSC_TRUE;
-  if (npiv > 0) *usable = PETSC_FALSE;
+    if (pcr == PC_NOERROR) PetscCall(BwSolverNullPivots(ksp, &npiv));
+    if (kr < 0) {
+      PetscBool stalled = (pcr == PC_NOERROR && npiv == 0 && (kr == KSP_DIVERGED_ITS || kr == KSP_DIVERGED_DTOL)) ? PETSC_TRUE : PETSC_FALSE;
+      /* stagnation at the round-off floor of an ill-conditioned system */
+      *usable = stalled && s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
+      if (stalled && s->check.residual <= s->rtol)
+        PetscCall(PetscSNPrintf(reason, len, "%s: the refinement's corrections did not settle in %" PetscInt_FMT " steps: estimated displacement error %.1e above solver.forward_rtol %.1e (true residual %.3e)", name, s->iterations, (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual));
+      else
+        PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
+    } else if (npiv > 0) {
+      PetscCall(PetscSNPrintf(reason, len, "%s: MUMPS found %" PetscInt_FMT " null pivot%s (a singular system)", name, npiv, npiv > 1 ? "s" : ""));
+    } else if (!(s->check.residual <= s->rtol)) {
+      PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses solver.rtol %.3e", name, (double)s->check.residual, (double)s->rtol));
+      *usable = s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
+    } else *ok = *usable = PETSC_TRUE;
+    if (npiv > 0) *usable = PETSC_FALSE;
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -362,6 +592,27 @@ static PetscErrorCode BwSolverCondensed(BwSolver s, BwMixed mx, BwLog *log)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Keeps the current answer as the best usable one if it is better than the
+ * kept one: by the larger of its true residual and its estimated forward
+ * error (an answer that met rtol with a larger error is the worse one). */
+static PetscErrorCode BwSolverKeepBest(BwSolver s, BwMixed mx, BwMethod method, Vec *best, BwCheck *check, BwMethod *best_method, PetscInt *its, PetscReal *fwd, PetscReal *cond)
+{
+  PetscReal now = PetscMax(s->check.residual, s->forward_estimate), kept;
+
+  PetscFunctionBeginUser;
+  if (*best) {
+    kept = PetscMax(check->residual, *fwd);
+    if (!(now < kept)) PetscFunctionReturn(PETSC_SUCCESS);
+  } else PetscCall(VecDuplicate(mx->x, best));
+  PetscCall(VecCopy(mx->x, *best));
+  *check       = s->check;
+  *best_method = method;
+  *its         = s->iterations;
+  *fwd         = s->forward_estimate;
+  *cond        = s->condition_estimate;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
 {
   PetscBool ok = PETSC_FALSE, usable;
@@ -370,6 +621,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
   BwCheck   best_check;
   BwMethod  best_method = BW_METHOD_FIELDSPLIT;
   PetscInt  best_its    = 0;
+  PetscReal best_fwd = -1, best_cond = -1;
 
   PetscFunctionBeginUser;
   s->fallback_reason[0] = 0;
@@ -381,18 +633,13 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
     PetscCall(KSPDestroy(&s->condensed));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
+  PetscCall(BwSolverForwardSetUp(s, mx));
   if (s->requested != BW_METHOD_DIRECT) {
     PetscCall(BwSolverSetUpFieldsplit(s, mx, &s->fieldsplit, NULL, s->schur_gamg));
     s->used = BW_METHOD_FIELDSPLIT;
     PetscCall(BwSolverRun(s, mx, log, s->fieldsplit, "fieldsplit", &ok, &usable, reason, sizeof(reason)));
     if (!ok) {
-      if (usable) {
-        PetscCall(VecDuplicate(mx->x, &best));
-        PetscCall(VecCopy(mx->x, best));
-        best_check  = s->check;
-        best_method = BW_METHOD_FIELDSPLIT;
-        best_its    = s->iterations;
-      }
+      if (usable) PetscCall(BwSolverKeepBest(s, mx, BW_METHOD_FIELDSPLIT, &best, &best_check, &best_method, &best_its, &best_fwd, &best_cond));
       if (s->requested == BW_METHOD_AUTO) {
         s->fallback = PETSC_TRUE;
         PetscCall(PetscStrncpy(s->fallback_reason, reason, sizeof(s->fallback_reason)));
@@ -404,13 +651,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
     PetscCall(BwSolverSetUpFieldsplit(s, mx, &s->cholesky, "cholesky_", PETSC_FALSE));
     s->used = BW_METHOD_FIELDSPLIT;
     PetscCall(BwSolverRun(s, mx, log, s->cholesky, "fieldsplit with MUMPS Cholesky of S^", &ok, &usable, why, sizeof(why)));
-    if (!ok && usable && (!best || s->check.residual < best_check.residual)) {
-      if (!best) PetscCall(VecDuplicate(mx->x, &best));
-      PetscCall(VecCopy(mx->x, best));
-      best_check  = s->check;
-      best_method = BW_METHOD_FIELDSPLIT;
-      best_its    = s->iterations;
-    }
+    if (!ok && usable) PetscCall(BwSolverKeepBest(s, mx, BW_METHOD_FIELDSPLIT, &best, &best_check, &best_method, &best_its, &best_fwd, &best_cond));
     if (!ok) PetscCall(PetscStrncpy(reason, why, sizeof(reason)));
   }
   if (!ok && s->requested != BW_METHOD_FIELDSPLIT && !s->direct_fits) {
@@ -421,24 +662,25 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
     PetscCall(BwSolverSetUpDirect(s, mx));
     s->used = BW_METHOD_DIRECT;
     PetscCall(BwSolverRun(s, mx, log, s->direct, "direct (MUMPS)", &ok, &usable, reason, sizeof(reason)));
-    if (!ok && usable && (!best || s->check.residual < best_check.residual)) {
-      if (!best) PetscCall(VecDuplicate(mx->x, &best));
-      PetscCall(VecCopy(mx->x, best));
-      best_check  = s->check;
-      best_method = BW_METHOD_DIRECT;
-      best_its    = s->iterations;
-    }
+    if (!ok && usable) PetscCall(BwSolverKeepBest(s, mx, BW_METHOD_DIRECT, &best, &best_check, &best_method, &best_its, &best_fwd, &best_cond));
   }
   if (!ok && best) {
     /* Every path stopped above solver.rtol at a residual that still makes
      * an answer (an ill-conditioned system's round-off floor): the best one
      * is written, and the run says so in the summary and in /solver. */
+    char cond[64] = "";
     PetscCall(VecCopy(best, mx->x));
-    s->check        = best_check;
-    s->used         = best_method;
-    s->iterations   = best_its;
-    s->accuracy_met = PETSC_FALSE;
-    PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "true residual %.3e misses solver.rtol %.1e: the system is too ill-conditioned for that tolerance in double precision; the answer written is the best of the paths tried (%s)", (double)s->check.residual, (double)s->rtol, BwMethods[best_method]));
+    s->check              = best_check;
+    s->used               = best_method;
+    s->iterations         = best_its;
+    s->forward_estimate   = best_fwd;
+    s->condition_estimate = best_cond;
+    s->accuracy_met       = PETSC_FALSE;
+    if (best_cond > 0) PetscCall(PetscSNPrintf(cond, sizeof(cond), ", condition estimate %.1e", (double)best_cond));
+    if (s->check.residual <= s->rtol)
+      PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "estimated displacement error %.1e misses solver.forward_rtol %.1e (true residual %.3e%s): the system is too ill-conditioned for that accuracy in double precision; the answer written is the best of the paths tried (%s)", (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual, cond, BwMethods[best_method]));
+    else
+      PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "true residual %.3e misses solver.rtol %.1e (estimated displacement error %.1e%s): the system is too ill-conditioned for that tolerance in double precision; the answer written is the best of the paths tried (%s)", (double)s->check.residual, (double)s->rtol, (double)s->forward_estimate, cond, BwMethods[best_method]));
     ok = PETSC_TRUE;
   }
   PetscCall(VecDestroy(&best));

@@ -43,10 +43,23 @@ struct _n_BwSolver {
   BwMethod  used;
   PetscBool fallback;
   char      fallback_reason[512];
-  PetscBool accuracy_met; /* the true residual met solver.rtol */
-  char      warning[512]; /* why not, when it did not */
+  PetscBool accuracy_met; /* the true residual met solver.rtol and the forward estimate its tolerance */
+  char      warning[640]; /* why not, when it did not */
   PetscInt  iterations;
   BwCheck   check;
+  /* Forward error of the displacements, estimated from the refinement
+   * corrections (see BwSolverConverged): relative, max norm, rotations times
+   * the assembly's size; -1 where not estimated (the condensed path). */
+  PetscReal forward_rtol;      /* -solver_forward_rtol, default solver.rtol */
+  PetscReal forward_estimate;
+  PetscReal condition_estimate; /* 1-norm condition of S^ (Hager-Higham) where S^ was factored, else -1 */
+  PetscBool estimate_condition; /* -solver_condition_estimate */
+  /* state of the forward estimate during one KSP solve */
+  BwMixed   mx;
+  Vec       fw_weight, fw_prev, fw_work;
+  PetscReal fw_last;
+  PetscInt  fw_it;
+  void     *fw_default; /* KSPConvergedDefault's context */
   /* options this object inserted as defaults; cleared again if unused */
   PetscInt ndefaults;
   char     defaults[24][96];
