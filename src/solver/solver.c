@@ -270,6 +270,7 @@ static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, K
       PetscReal rho = rel / s->fw_last;
       est           = rho < 0.5 ? rel * rho / (1 - rho) : rel;
     }
+    PetscCall(PetscInfo(ksp, "step %" PetscInt_FMT ": displacement correction %.3e (relative), forward estimate %.3e\n", it, (double)rel, (double)est));
     s->fw_last          = rel;
     s->fw_it            = it;
     s->forward_estimate = est;

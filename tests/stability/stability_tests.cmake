@@ -11,6 +11,7 @@ set(BW_STABILITY_CASES
   contrast_random_1e6 contrast_random_1e9 contrast_random_1e12
   contrast_layered_1e6 contrast_layered_1e9 contrast_layered_1e12 cluster_1e6
   cluster_1e9 cluster_1e12 wall_random_1e9_12x8 wall_layered_1e7_20x12
+  contrast_random_1e13 contrast_layered_1e13
   kt_kn_1e-6 kt_kn_1e6
   m1_two_blocks m2_two_blocks m1024_two_blocks m1_wall m2_wall m1024_wall
   thickness_1e-6 thickness_1e-3
