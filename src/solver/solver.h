@@ -53,7 +53,7 @@ struct _n_BwSolver {
   PetscReal forward_rtol;      /* -solver_forward_rtol, default solver.rtol */
   PetscReal forward_estimate;
   PetscReal condition_estimate; /* 1-norm condition of S^ (Hager-Higham) where S^ was factored, else -1 */
-  PetscBool estimate_condition; /* -solver_condition_estimate */
+  PetscInt  condition_when;     /* -solver_condition_estimate: 0 auto, 1 always, 2 never */
   /* state of the forward estimate during one KSP solve */
   BwMixed   mx;
   Vec       fw_weight, fw_prev, fw_work;

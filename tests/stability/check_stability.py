@@ -65,7 +65,8 @@ What each case asserts (`check`):
      system blockwall solves is not the problem it states.
   5. The forward error blockwall estimates from its refinement corrections
      (/solver forward_error_estimate) is honest: the displacement error is
-     at most 100 x max(estimate, forward_rtol).
+     at most 100 x max(estimate, forward_rtol); its condition estimate,
+     where it made one, is within a factor 1e3 of the reference's cond(K~).
 
 Cases where this suite found blockwall wrong are kept in KNOWN_SILENT
 (exit 0, no warning, error far above tol), KNOWN_MISDIAGNOSED (refused as a
@@ -526,6 +527,13 @@ def check_run(name, r):
         expect(r["err_q"] <= 100 * max(fe, r.get("forward_rtol", 0)),
                f"{name}: displacement error {r['err_q']:.2e} but blockwall estimated {fe:.1e} "
                f"(forward_rtol {r.get('forward_rtol', 0):.0e})")
+    # ... and so is its condition estimate (1-norm of S^ or K~, where it made
+    # one), against the reference's 2-norm cond(K~): the two norms differ by
+    # up to sqrt(n), the operators by O(1), so within a factor 1e3.
+    ce = r.get("condition_estimate", -1)
+    if ce is not None and ce > 0:
+        expect(1e-3 * st["cond_mixed"] <= ce <= 1e3 * st["cond_mixed"],
+               f"{name}: condition estimate {ce:.1e} against cond(K~) {st['cond_mixed']:.1e}")
     expect(r["err"] <= r["tol"] or said_so(r),
            f"{name}: SILENT WRONG ANSWER: displacement error {r['err_q']:.2e}, stress error {r['err_s']:.2e} > "
            f"{r['tol']:.0e} with exit 0, residual {r['residual']:.1e}, no warning ({r['cmd']})")
