@@ -501,7 +501,9 @@ static PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
 static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, const char name[], PetscBool *ok, PetscBool *usable, char reason[], size_t len)
 {
   PetscErrorCode     ierr;
-  KSPConvergedReason kr;
+  KSPConvergedReason kr  = KSP_CONVERGED_ITERATING;
+  PC                 pc;
+  PCFailedReason     pcr  = PC_NOERROR;
   PetscInt           npiv = 0;
 
   PetscFunctionBeginUser;
@@ -516,28 +518,25 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
   PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
   PetscCall(BwLogBegin(log, BW_PHASE_SOLVE));
   if (!ierr) ierr = KSPSolve(ksp, mx->b, mx->x);
-  /* The condition of what was factored, while the factor is there: a few
-   * solves with it, and the one number that says how far a small residual
-   * can be from a small error. Not on a failed or singular factor. */
-  /* auto: only where the refinement showed trouble (more than two steps,
-   * or a stop at the step limit); on an ordinary wall the estimate would
-   * cost 0.6 s of 4.2 s at 1e5 blocks and say nothing the forward
-   * estimate does not. */
-  if (!ierr && s->condition_when != 2) {
-    PetscInt its;
-    PC             fpc, pc;
-    Mat            A;
-    PCFailedReason pcr;
-    PetscBool      wanted;
+  if (!ierr) {
     PetscCall(KSPGetConvergedReason(ksp, &kr));
-    PetscCall(KSPGetIterationNumber(ksp, &its));
-    wanted = s->condition_when == 1 || its > 2 || kr <= 0 ? PETSC_TRUE : PETSC_FALSE;
+    PetscCall(KSPGetIterationNumber(ksp, &s->iterations));
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCGetFailedReason(pc, &pcr));
-    if (wanted && pcr == PC_NOERROR && (kr > 0 || kr == KSP_DIVERGED_ITS)) PetscCall(BwSolverNullPivots(ksp, &npiv));
-    if (wanted && pcr == PC_NOERROR && (kr > 0 || kr == KSP_DIVERGED_ITS) && npiv == 0) {
-      PetscCall(BwSolverGetFactorPC(ksp, &fpc, &A));
-      if (fpc) PetscCall(BwSolverConditionEstimate(fpc, A, &s->condition_estimate));
+    if (pcr == PC_NOERROR) PetscCall(BwSolverNullPivots(ksp, &npiv));
+    /* The condition of what was factored, while the factor is there: a few
+     * solves with it, and the one number that says how far a small residual
+     * can be from a small error. Not on a failed or singular factor. In
+     * auto, only where the refinement showed trouble (more than two steps,
+     * or a stop at the step limit): on an ordinary wall it would cost 0.6 s
+     * of 4.2 s at 1e5 blocks and say nothing the forward estimate does not. */
+    if (s->condition_when == 1 || (s->condition_when == 0 && (s->iterations > 2 || kr <= 0))) {
+      if (pcr == PC_NOERROR && npiv == 0 && (kr > 0 || kr == KSP_DIVERGED_ITS)) {
+        PC  fpc;
+        Mat A;
+        PetscCall(BwSolverGetFactorPC(ksp, &fpc, &A));
+        if (fpc) PetscCall(BwSolverConditionEstimate(fpc, A, &s->condition_estimate));
+      }
     }
   }
   PetscCall(BwLogEnd(log, BW_PHASE_SOLVE));
@@ -547,31 +546,21 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwMixed mx, BwLog *log, KSP ksp, c
     PetscCall(PetscSNPrintf(reason, len, "%s raised a PETSc error: %s", name, text ? text : "unknown"));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(KSPGetConvergedReason(ksp, &kr));
-  PetscCall(KSPGetIterationNumber(ksp, &s->iterations));
   PetscCall(BwMixedCheck(mx, mx->x, NULL, &s->check));
-  {
-    PC             pc;
-    PCFailedReason pcr = PC_NOERROR;
-    PetscCall(KSPGetPC(ksp, &pc));
-    PetscCall(PCGetFailedReason(pc, &pcr));
-    if (pcr == PC_NOERROR) PetscCall(BwSolverNullPivots(ksp, &npiv));
-    if (kr < 0) {
-      PetscBool stalled = (pcr == PC_NOERROR && npiv == 0 && (kr == KSP_DIVERGED_ITS || kr == KSP_DIVERGED_DTOL)) ? PETSC_TRUE : PETSC_FALSE;
-      /* stagnation at the round-off floor of an ill-conditioned system */
-      *usable = stalled && s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
-      if (stalled && s->check.residual <= s->rtol)
-        PetscCall(PetscSNPrintf(reason, len, "%s: the refinement's corrections did not settle in %" PetscInt_FMT " steps: estimated displacement error %.1e above solver.forward_rtol %.1e (true residual %.3e)", name, s->iterations, (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual));
-      else
-        PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
-    } else if (npiv > 0) {
-      PetscCall(PetscSNPrintf(reason, len, "%s: MUMPS found %" PetscInt_FMT " null pivot%s (a singular system)", name, npiv, npiv > 1 ? "s" : ""));
-    } else if (!(s->check.residual <= s->rtol)) {
-      PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses solver.rtol %.3e", name, (double)s->check.residual, (double)s->rtol));
-      *usable = s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
-    } else *ok = *usable = PETSC_TRUE;
-    if (npiv > 0) *usable = PETSC_FALSE;
-  }
+  if (kr < 0) {
+    PetscBool stalled = (pcr == PC_NOERROR && npiv == 0 && (kr == KSP_DIVERGED_ITS || kr == KSP_DIVERGED_DTOL)) ? PETSC_TRUE : PETSC_FALSE;
+    /* stagnation at the round-off floor of an ill-conditioned system */
+    *usable = stalled && s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
+    if (stalled && s->check.residual <= s->rtol)
+      PetscCall(PetscSNPrintf(reason, len, "%s: the refinement's corrections did not settle in %" PetscInt_FMT " steps: estimated displacement error %.1e above solver.forward_rtol %.1e (true residual %.3e)", name, s->iterations, (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual));
+    else
+      PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
+  } else if (npiv > 0) {
+    PetscCall(PetscSNPrintf(reason, len, "%s: MUMPS found %" PetscInt_FMT " null pivot%s (a singular system)", name, npiv, npiv > 1 ? "s" : ""));
+  } else if (!(s->check.residual <= s->rtol)) {
+    PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses solver.rtol %.3e", name, (double)s->check.residual, (double)s->rtol));
+    *usable = s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
+  } else *ok = *usable = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -59,7 +59,6 @@ struct _n_BwSolver {
   Vec       fw_weight, fw_prev, fw_work;
   PetscReal fw_last;
   PetscInt  fw_it;
-  void     *fw_default; /* KSPConvergedDefault's context */
   /* options this object inserted as defaults; cleared again if unused */
   PetscInt ndefaults;
   char     defaults[24][96];

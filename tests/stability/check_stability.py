@@ -87,7 +87,9 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
+sys.path.insert(0, os.path.join(HERE, "..", "geometry"))
 from bwrun import ENV, EXE, Failure, expect  # noqa: E402
+from geomlib import write_geometry  # noqa: E402  (HDF5 geometry files, README "geometry.generator: file")
 
 REFERENCE = os.environ.get("BW_REFERENCE", os.path.join(os.path.dirname(os.path.abspath(EXE)), "bw_reference"))
 TWO, TWO_MORTAR, WALL, FILE = (os.path.join(HERE, f) for f in
@@ -151,20 +153,6 @@ def expected_tol(cond, rtol=RTOL):
 
 def rect(x0, y0, x1, y1):
     return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float)
-
-
-def write_geometry(path, blocks, pairs=None, kn=None, kt=None, sets=None):
-    """An HDF5 geometry file (README, geometry.generator: file)."""
-    with h5py.File(path, "w") as f:
-        f["blocks/vertices"] = np.concatenate([np.asarray(b, float) for b in blocks])
-        f["blocks/offsets"] = np.concatenate([[0], np.cumsum([len(b) for b in blocks])]).astype(np.int64)
-        if pairs is not None:
-            f["interfaces/blocks"] = np.asarray(pairs, np.int64).reshape(-1, 2)
-        if kn is not None:
-            f["interfaces/kn"] = np.asarray(kn, float)
-            f["interfaces/kt"] = np.asarray(kt, float)
-        for name, members in (sets or {}).items():
-            f[f"sets/{name}"] = np.asarray(members, np.int64)
 
 
 def wall_geometry(tmp, courses, units):
