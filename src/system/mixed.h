@@ -68,6 +68,8 @@ PetscErrorCode BwMixedCheckRestraint(BwMixed mixed);
  * naming the blocks and their free motion if S^ is singular to working
  * precision, nothing otherwise. Collective; one extra factorisation. */
 PetscErrorCode BwMixedCheckMechanism(BwMixed mixed, const char how[]);
+/* Its verdict on a Rayleigh quotient rho of S^ (unit vector) against ||S^||. */
+PetscBool BwMechanismVerdict(PetscReal rho, PetscReal snorm);
 PetscErrorCode BwMixedDestroy(BwMixed *mixed);
 
 /* Results of the owned blocks and interfaces, physical units. */

@@ -11,7 +11,7 @@ target_link_libraries(test_geometry PRIVATE blockwall_core)
 add_executable(test_mechanism ${BW_GEOMETRY_DIR}/test_mechanism.c)
 target_link_libraries(test_mechanism PRIVATE blockwall_core)
 
-foreach(case sway sound)
+foreach(case sway sound verdict)
   add_test(NAME geometry.mechanism.numeric_${case} COMMAND test_mechanism ${case})
   set_tests_properties(geometry.mechanism.numeric_${case} PROPERTIES LABELS "geometry;mechanism" ENVIRONMENT "${BW_MPI_ENV}")
 endforeach()

@@ -15,12 +15,17 @@
  *
  *   test_mechanism sway      m = 1: the error names blocks 1, 2, 3 and their motions
  *   test_mechanism sound     m = 2: the same assembly is restrained, no error
+ *   test_mechanism verdict   the decision on the Rayleigh quotient: the four-bar's
+ *                            quotients as measured on two CPUs (+7.6e-18 AMD,
+ *                            -2.9e-17 Intel, ||S^|| = 1) are mechanisms whatever
+ *                            their sign; a 1e12 contrast's 1e-13 and NaN are not
  *   test_mechanism scene -scene S.yaml [options]
  *                            the scene's assembly as blockwall builds it, then
  *                            the check: exit 1 and the error line on stderr
  *                            if it is a mechanism, exit 0 if not (for
  *                            check_mechanism.py)
  */
+#include <math.h>
 #include <string.h>
 #include <hdf5.h>
 #include "system/mixed.h"
@@ -106,6 +111,17 @@ int main(int argc, char **argv)
     PetscCall(BwModelDestroy(&model));
     PetscCall(BwGeometryDestroy(&geom));
     PetscCall(BwSceneDestroy(&scene));
+    PetscCall(PetscFinalize());
+    return fail;
+  }
+  if (!strcmp(which, "verdict")) {
+    const PetscReal rho[6]  = {7.6e-18, -2.9e-17, 0.0, 1e-13, -1e-13, NAN};
+    const PetscBool want[6] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+    for (int k = 0; k < 6; k++)
+      if (BwMechanismVerdict(rho[k], 1.0) != want[k]) {
+        fprintf(stderr, "FAIL: Rayleigh quotient %g of ||S^|| = 1: verdict %s, expected %s\n", (double)rho[k], want[k] ? "sound" : "mechanism", want[k] ? "mechanism" : "sound");
+        fail = 1;
+      }
     PetscCall(PetscFinalize());
     return fail;
   }
