@@ -58,6 +58,7 @@ struct _n_BwSolver {
   BwMixed   mx;
   Vec       fw_weight, fw_prev, fw_work;
   PetscReal fw_last;
+  PetscReal fw_prescribed; /* largest prescribed displacement, same weights: part of the field the error is relative to */
   PetscInt  fw_it;
   /* options this object inserted as defaults; cleared again if unused */
   PetscInt ndefaults;

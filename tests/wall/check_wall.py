@@ -105,9 +105,29 @@ def compression():
     print(f"compression: sigma {sigma:.6e} uniform, u_top {u_top[1]:.6e} = {want:.6e}, equilibrium error {res['solver']['equilibrium_error']:.1e}")
 
 
+def balanced():
+    """Loads that sum to zero, and a prescribed displacement without loads:
+    correct answers whose balance must read as balanced. equilibrium_error
+    is |sum of reactions + loads| relative to the forces involved (before:
+    relative to the loads' resultant alone, it read 1.0 on both)."""
+    # bottom and top course (both even: n units each) pushed apart
+    res = solve(SCENE, wall(5, 4, "-loads_bottom_course", "0,-1000,0", "-loads_top_course", "0,1000,0", "-loads_top_beam", "0,0,0"))
+    e1 = res["solver"]["equilibrium_error"]
+    expect(e1 <= 1e-10, f"self-balanced loads: equilibrium error {e1:.3e}")
+    r = res["blocks/reaction"][0]
+    expect(np.max(np.abs(r)) <= 1e-9 * 1000 * 4, f"self-balanced loads: the foundation reacts {r}")
+    # the top beam moved sideways by 1 mm, nothing loaded
+    res = solve(SCENE, wall(5, 4, "-loads_top_beam", "0,0,0", "-supports_top_beam_u1", 1e-3))
+    e2 = res["solver"]["equilibrium_error"]
+    rr = res["blocks/reaction"]
+    expect(e2 <= 1e-10, f"prescribed displacement: equilibrium error {e2:.3e}")
+    expect(abs(rr[0][0] + rr[-1][0]) <= 1e-10 * abs(rr[-1][0]), f"prescribed displacement: x reactions {rr[0][0]} and {rr[-1][0]} do not balance")
+    print(f"self-balanced loads: equilibrium error {e1:.1e}; prescribed displacement: {e2:.1e}, reaction {rr[-1][0]:.4e} N")
+
+
 if __name__ == "__main__":
     try:
-        {"counts": counts, "openings": openings, "compression": compression}[sys.argv[1]]()
+        {"counts": counts, "openings": openings, "compression": compression, "balanced": balanced}[sys.argv[1]]()
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
