@@ -8,7 +8,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # that Debian's alternatives pick over the reference libblas.so.3.
 BW_DEBS=(build-essential gfortran cmake ninja-build pkg-config
          petsc-dev libhdf5-openmpi-dev hdf5-tools libmetis-dev libyaml-dev
-         openmpi-bin libopenmpi-dev libopenblas0-pthread python3 python3-pip)
+         openmpi-bin libopenmpi-dev libopenblas0-pthread libblas3 liblapack3 python3 python3-pip)
 
 bw_install_debs() {
   local missing=()

@@ -1,0 +1,25 @@
+"""Which BLAS a run loaded, as blockwall reports it (summary line and
+/solver blas). tools/test runs the numerically sensitive labels a second
+time with the reference BLAS selected through LD_LIBRARY_PATH and sets
+BW_EXPECT_BLAS to its directory: this test then fails unless the run really
+loaded it, so the second pass cannot silently test OpenBLAS twice. Without
+BW_EXPECT_BLAS it checks that some BLAS library was found and reported."""
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
+from bwrun import Failure, expect, solve  # noqa: E402
+
+SCENE = os.path.join(os.path.dirname(__file__), "..", "paper", "two_blocks.yaml")
+
+if __name__ == "__main__":
+    try:
+        blas = solve(SCENE)["solver"]["blas"]
+        want = os.environ.get("BW_EXPECT_BLAS")
+        expect(blas != "unknown" and os.path.exists(blas), f"no BLAS library reported: {blas!r}")
+        if want:
+            expect(os.path.realpath(blas).startswith(os.path.realpath(want)), f"expected the BLAS from {want}, the run loaded {blas}")
+        print(f"BLAS loaded: {blas}" + (f" (expected under {want})" if want else ""))
+    except Failure as e:
+        print("FAIL", e)
+        sys.exit(1)
