@@ -30,6 +30,7 @@ import time
 T_IMPORT = time.perf_counter()
 import argparse
 import json
+import os
 import sys
 
 import h5py
@@ -149,6 +150,23 @@ def compatibility(centroid, itf):
         rb[:, 1, side + 2] = sign * (-n1 * d[:, 1] + n2 * d[:, 0])
         rb[:, 2, side + 2] = sign
     return rb
+
+
+def loaded_blas():
+    """The BLAS/LAPACK shared libraries this process has mapped (Linux): CHOLMOD's
+    come through libblas.so.3 / liblapack.so.3; numpy's and scipy's wheels bring
+    their own (scipy_openblas)."""
+    libs = set()
+    try:
+        with open("/proc/self/maps") as f:
+            for line in f:
+                path = line.split()[-1]
+                name = os.path.basename(path)
+                if path.startswith("/") and ("blas" in name or "lapack" in name):
+                    libs.add(os.path.realpath(path))
+    except OSError:
+        pass
+    return sorted(libs)
 
 
 # --------------------------------------------------------------------------
@@ -300,18 +318,20 @@ def main(argv=None):
             for name, members in sets.items():
                 h["/sets/" + name] = members.astype(np.int64)
             h.attrs["residual"] = residual
-            h.attrs["equilibrium_error"] = balance
+            h.attrs["force_balance"] = balance
         t = phase("write", t)
     else:
         times["write"] = 0.0
     times["total"] = time.perf_counter() - t_start
     print("%-13s %9.3f s" % ("total", times["total"]))
-    print("blocks %d, interfaces %d, m %d, unknowns %d, nnz(K) %d, residual %.3e, equilibrium error %.3e"
+    print("blocks %d, interfaces %d, m %d, unknowns %d, nnz(K) %d, residual %.3e, force balance %.3e"
           % (nb, ni, m, nq, K.nnz, residual, balance))
+    blas = loaded_blas()
+    print("BLAS/LAPACK loaded: " + ", ".join(blas))
     print("JSON " + json.dumps(dict(blocks=nb, interfaces=ni, m=m, unknowns=nq, nnz_K=int(K.nnz),
-                                    residual=residual, equilibrium_error=balance,
+                                    residual=residual, force_balance=balance,
                                     seconds={k: round(v, 4) for k, v in times.items()},
-                                    seconds_imports=round(T_IMPORT, 4))))
+                                    seconds_imports=round(T_IMPORT, 4), blas=blas)))
     return 0
 
 
