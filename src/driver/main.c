@@ -1,12 +1,15 @@
+#define _POSIX_C_SOURCE 200809L /* setenv */
 static const char help[] = "blockwall: static equilibrium of rigid blocks joined by elastic interfaces,\n"
                            "mixed form (block displacements and piecewise-constant interface stresses).\n"
                            "Usage: mpiexec -n N blockwall -scene SCENE.yaml [scene options] [PETSc options]\n"
                            "Every scene key is an option: nested keys joined by '_' (-discretization_m 8).\n\n";
 
 /* The driver, as numbered steps:
- *   1. scene file -> options database            (BwScene)
- *   2. joint laws, geometry, supports and loads  (BwJointLaw, BwGeometry, BwModel)
- *   3. output target and solver options, checked before any work
+ *   1. scene file and command line, typed keys    (BwScene)
+ *   2. every key that does not depend on the geometry (BwModel, BwGeometry,
+ *      BwOutput, BwSolver), then options nobody reads are refused
+ *   3. geometry, joint stiffness, supports and loads (BwGeometry, BwModel),
+ *      then every unread key of blockwall's is refused, before any work
  *   4. partition (METIS, more than one rank), layout and assembly of the
  *      scaled mixed system (BwMixed)
  *   5. solve: fieldsplit Schur, MUMPS fallback   (BwSolver)
@@ -21,6 +24,7 @@ static const char help[] = "blockwall: static equilibrium of rigid blocks joined
 #include "output/output.h"
 #include "util/log.h"
 #include "util/compat.h"
+#include "util/signals.h"
 
 typedef struct {
   BwScene    scene;
@@ -49,11 +53,12 @@ static PetscErrorCode BwRunDestroy(BwRun *run)
 
 static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
 {
-  char        path[PETSC_MAX_PATH_LEN] = "", title[256] = "";
-  PetscBool   has_scene, help, progress_set;
-  BwJointLaw  bed, head;
-  BwLog       log;
-  PetscMPIInt *owner = NULL;
+  char               path[PETSC_MAX_PATH_LEN] = "", title[256] = "";
+  PetscBool          has_scene, help, progress_set;
+  BwLog              log;
+  PetscMPIInt       *owner = NULL;
+  PetscInt           ndeferred;
+  const char *const *deferred;
 
   PetscFunctionBeginUser;
   PetscCall(BwLogCreate(comm, &log));
@@ -62,36 +67,37 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   /* 1. scene */
   PetscCall(BwSceneCreate(comm, &run->scene));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &has_scene));
-  if (has_scene) PetscCall(BwSceneLoad(run->scene, path));
-  else PetscCheck(help, comm, PETSC_ERR_USER_INPUT, "-scene SCENE.yaml is required (run with -help for the options)");
-  PetscOptionsBegin(comm, NULL, "blockwall", NULL);
-  PetscCall(PetscOptionsString("-scene", "Scene file (YAML); every key is also an option", NULL, path, path, sizeof(path), NULL));
-  PetscCall(PetscOptionsString("-title", "Free text describing the scene", NULL, title, title, sizeof(title), NULL));
-  PetscCall(PetscOptionsBool("-progress", "One line per phase with time and memory (default: for 10000 blocks or more)", NULL, log.verbose, &log.verbose, &progress_set));
-  PetscOptionsEnd();
+  PetscCheck(has_scene || help, comm, PETSC_ERR_USER_INPUT, "-scene SCENE.yaml is required (run with -help for the options)");
+  PetscCall(BwSceneLoad(run->scene, has_scene ? path : NULL));
+  if (help) PetscCall((*PetscHelpPrintf)(comm, "blockwall:\n  -scene <%s>: Scene file (YAML); every key is also an option\n", path));
+  PetscCall(BwSceneString(run->scene, "-title", "Free text describing the scene", title, sizeof(title), NULL));
+  PetscCall(BwSceneBool(run->scene, "-progress", "One line per phase with time and memory (default: for 10000 blocks or more)", &log.verbose, &progress_set));
 
-  /* 2. physics and geometry */
-  PetscCall(BwLogBegin(&log, BW_PHASE_GENERATE));
-  PetscCall(BwJointLawSetFromOptions(&bed, run->scene, "joints_", NULL));
+  /* 2. every key that does not depend on the geometry: physics, generator,
+   * output target, solver */
+  PetscCall(BwModelCreate(comm, &run->model));
+  PetscCall(BwModelSetFromOptions(run->model, run->scene));
   PetscCall(BwGeometryCreate(comm, &run->geom));
-  PetscCall(BwGeometrySetFromOptions(run->geom, run->scene, bed.thickness));
-  head = bed;
-  for (PetscInt k = 0; k < run->geom->ninterfaces; k++)
-    if (run->geom->kind[k] == BW_JOINT_HEAD) {
-      PetscCall(BwJointLawSetFromOptions(&head, run->scene, "joints_head_", &bed));
-      break;
-    }
-  PetscCall(BwModelCreate(run->geom, &run->model));
-  PetscCall(BwModelSetFromOptions(run->model, run->scene, &bed, &head));
-  if (!progress_set) log.verbose = run->geom->nblocks >= 10000 ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(BwLogEnd(&log, BW_PHASE_GENERATE));
-
-  /* 3. output and solver options */
+  PetscCall(BwGeometrySetFromOptions(run->geom, run->scene));
   PetscCall(BwOutputCreate(comm, &run->output));
   PetscCall(BwOutputSetFromOptions(run->output, run->scene));
   PetscCall(BwSolverCreate(comm, &run->solver));
-  PetscCall(BwSolverSetFromOptions(run->solver, run->scene, run->geom->nblocks));
+  PetscCall(BwSolverSetFromOptions(run->solver, run->scene));
+  /* a typo outside blockwall's keys fails now, before any work */
+  PetscCall(BwSolverGetOptionPrefixes(&ndeferred, &deferred));
+  PetscCall(BwSceneCheckUnused(run->scene, BW_CHECK_FOREIGN, 0, NULL, ndeferred, deferred));
+
+  /* 3. geometry, then what depends on it: joint stiffness, supports, loads */
+  PetscCall(BwLogBegin(&log, BW_PHASE_GENERATE));
+  if (!(help && !has_scene)) PetscCall(BwGeometrySetUp(run->geom, run->scene, run->model->bed.thickness));
+  PetscCall(BwModelSetUp(run->model, run->geom, run->scene));
+  PetscCall(BwSolverSetSize(run->solver, run->geom->nblocks));
+  if (!progress_set) log.verbose = run->geom->nblocks >= 10000 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(BwLogEnd(&log, BW_PHASE_GENERATE));
   if (help && !has_scene) PetscFunctionReturn(PETSC_SUCCESS);
+  /* every key of blockwall's has been read: the rest are typos, found
+   * before the work (the solvers' own options wait for them) */
+  PetscCall(BwSceneCheckUnused(run->scene, BW_CHECK_SETUP, 0, NULL, ndeferred, deferred));
 
   /* 4. partition and assembly */
   PetscCall(BwLogBegin(&log, BW_PHASE_PARTITION));
@@ -119,7 +125,7 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
     PetscInt    n;
     const char *idle[6];
     PetscCall(BwSolverGetIdlePrefixes(run->solver, &n, idle));
-    PetscCall(BwSceneCheckUnused(run->scene, n, idle));
+    PetscCall(BwSceneCheckUnused(run->scene, BW_CHECK_FINAL, n, idle, 0, NULL));
   }
 
   /* 7. write and report */
@@ -167,13 +173,19 @@ int main(int argc, char **argv)
   PetscMPIInt    rank;
   int            code = 0;
 
+  /* Open MPI's OMPIO prints its own lines on stderr when a write fails (a
+   * full disk); ROMIO reports through return codes only, which blockwall
+   * turns into its one error line. A user's own choice (OMPI_MCA_io) wins. */
+  setenv("OMPI_MCA_io", "^ompio", 0);
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   /* Errors are reported once, as one line, by this driver: no PETSc
    * traceback, no HDF5 error stack. */
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  PetscCall(BwSignalsInstall(PETSC_COMM_WORLD));
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
-  ierr = BwRunMain(PETSC_COMM_WORLD, &run);
+  ierr = BwSceneCheckArguments(PETSC_COMM_WORLD, argc, argv);
+  if (!ierr) ierr = BwRunMain(PETSC_COMM_WORLD, &run);
   if (ierr) {
     char *specific = NULL;
     PetscErrorMessage(ierr, NULL, &specific);
@@ -181,7 +193,9 @@ int main(int argc, char **argv)
       if (ierr == PETSC_ERR_MEM) fprintf(stderr, "blockwall: error: out of memory (in %s): the assembly is too large for this machine's memory with these settings\n", specific && specific[0] ? specific : "blockwall");
       else fprintf(stderr, "blockwall: error: %s\n", specific && specific[0] ? specific : "unknown error");
     }
-    code = ierr == PETSC_ERR_USER_INPUT ? 1 : 2;
+    /* 1: what the user gave is wrong (scene, command line, a file to read
+     * or a place to write); 2: the solve failed */
+    code = ierr == PETSC_ERR_USER_INPUT || ierr == PETSC_ERR_FILE_OPEN || ierr == PETSC_ERR_FILE_READ || ierr == PETSC_ERR_FILE_WRITE ? 1 : 2;
   }
   if (BwRunDestroy(&run)) code = code ? code : 3;
   PetscPopErrorHandler();

@@ -130,7 +130,7 @@ static PetscErrorCode BwGridCover(BwGrid *g, PetscInt item)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwGridCreate(PetscInt nitems, BwGridShape shape, void *ctx, PetscReal h, BwGrid *g)
+PetscErrorCode BwGridCreate(PetscInt nitems, BwGridShape shape, void *ctx, const PetscInt group[], PetscReal h, BwGrid *g)
 {
   PetscReal xmin = PETSC_MAX_REAL, ymin = PETSC_MAX_REAL, xmax = PETSC_MIN_REAL, ymax = PETSC_MIN_REAL;
   PetscInt  nbuckets = 1024, total = 0;
@@ -139,6 +139,7 @@ PetscErrorCode BwGridCreate(PetscInt nitems, BwGridShape shape, void *ctx, Petsc
   PetscCall(PetscMemzero(g, sizeof(*g)));
   g->shape = shape;
   g->ctx   = ctx;
+  g->group = group;
   g->h     = h;
   for (PetscInt k = 0; k < nitems; k++) {
     PetscReal P[2], Q[2], rx, ry;
@@ -182,9 +183,32 @@ PetscErrorCode BwGridCandidates(BwGrid *g, PetscInt item)
   PetscCall(PetscSortRemoveDupsInt(&g->cells.n, g->cells.a));
   g->cand.n = 0;
   for (PetscInt c = 0; c < g->cells.n; c++) {
-    PetscInt b = g->cells.a[c];
-    for (PetscInt k = g->start[b]; k < g->start[b + 1]; k++)
+    PetscInt b = g->cells.a[c], lo = g->start[b], hi = g->start[b + 1], skip0 = hi, skip1 = hi;
+    if (g->group) {
+      /* a bucket's items are in item order, hence in group order: the
+       * run of item's own group is [skip0, skip1) */
+      PetscInt gr = g->group[item], l = lo, r = hi;
+      while (l < r) {
+        PetscInt mid = (l + r) / 2;
+        if (g->group[g->item[mid]] < gr) l = mid + 1;
+        else r = mid;
+      }
+      skip0 = l;
+      r     = hi;
+      while (l < r) {
+        PetscInt mid = (l + r) / 2;
+        if (g->group[g->item[mid]] <= gr) l = mid + 1;
+        else r = mid;
+      }
+      skip1 = l;
+    }
+    for (PetscInt k = lo; k < hi; k++) {
+      if (k == skip0) {
+        k = skip1 - 1;
+        continue;
+      }
       if (g->item[k] > item) PetscCall(BwIntBufPush(&g->cand, g->item[k]));
+    }
   }
   PetscCall(PetscSortRemoveDupsInt(&g->cand.n, g->cand.a));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -442,7 +466,7 @@ PetscErrorCode BwDetectInterfaces(BwGeometry g, const BwTolerance *tol)
   ctx.reach = 0.5 * tol->gapmax + tol->delta;
   /* Cells about the size of a typical edge: an edge then touches a few
    * cells and a cell holds a few edges, whatever the number of blocks. */
-  PetscCall(BwGridCreate(nv, BwEdgeShape, &ctx, PetscMax(1.5 * tol->edge, 4 * ctx.reach), &grid));
+  PetscCall(BwGridCreate(nv, BwEdgeShape, &ctx, blk, PetscMax(1.5 * tol->edge, 4 * ctx.reach), &grid));
   for (PetscInt ea = 0; ea < nv; ea++) {
     PetscCall(BwGridCandidates(&grid, ea));
     for (PetscInt c = 0; c < grid.cand.n; c++) {

@@ -154,6 +154,36 @@ static PetscErrorCode BwH5Read(BwFileData *d, const char path[], hid_t dset, hid
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The names of /sets' members in one pass: reading them by index costs a
+ * walk of the group each, quadratic in the number of sets (3e4 sets took
+ * seconds). */
+typedef struct {
+  char  **name;
+  size_t  n, cap;
+  int     err;
+} BwLinkNames;
+
+static herr_t BwLinkName(hid_t grp, const char *name, const H5L_info_t *info, void *ctx)
+{
+  BwLinkNames *l = (BwLinkNames *)ctx;
+
+  (void)grp;
+  (void)info;
+  if (l->n == l->cap) {
+    size_t cap  = l->cap ? 2 * l->cap : 64;
+    char **more = (char **)realloc(l->name, cap * sizeof(char *));
+    if (!more) return (l->err = 1, -1);
+    l->name = more;
+    l->cap  = cap;
+  }
+  if (!(l->name[l->n] = (char *)malloc(strlen(name) + 1))) return (l->err = 1, -1);
+  memcpy(l->name[l->n], name, strlen(name) + 1);
+  l->n++;
+  return 0;
+}
+
+static PetscErrorCode BwFileReadSet(BwFileData *d, const char name[]);
+
 static PetscErrorCode BwFileReadSets(BwFileData *d)
 {
   PetscBool  exists;
@@ -173,22 +203,39 @@ static PetscErrorCode BwFileReadSets(BwFileData *d)
   PetscCall(PetscCalloc1(info.nlinks + 1, &d->setname));
   PetscCall(PetscCalloc1(info.nlinks + 1, &d->setdata));
   PetscCall(PetscCalloc1(info.nlinks + 1, &d->setlen));
-  for (hsize_t k = 0; k < info.nlinks; k++) {
-    char    name[256], path[300];
-    ssize_t len = H5Lget_name_by_idx(grp, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof(name), H5P_DEFAULT);
+  {
+    BwLinkNames l   = {NULL, 0, 0, 0};
+    hsize_t     idx = 0;
+    herr_t      err = H5Literate(grp, H5_INDEX_NAME, H5_ITER_INC, &idx, BwLinkName, &l);
+    PetscErrorCode ierr = PETSC_SUCCESS;
+    if (err < 0 || l.n != info.nlinks) {
+      for (size_t k = 0; k < l.n; k++) free(l.name[k]);
+      free(l.name);
+      H5Gclose(grp);
+      SETERRQ(PETSC_COMM_SELF, l.err ? PETSC_ERR_MEM : PETSC_ERR_USER_INPUT, "%s: /sets: the names of its members cannot be read", d->path);
+    }
+    for (size_t k = 0; k < l.n && !ierr; k++) ierr = BwFileReadSet(d, l.name[k]);
+    for (size_t k = 0; k < l.n; k++) free(l.name[k]);
+    free(l.name);
+    H5Gclose(grp);
+    PetscCall(ierr);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* One set, /sets/NAME. */
+static PetscErrorCode BwFileReadSet(BwFileData *d, const char name[])
+{
+  PetscFunctionBeginUser;
+  {
+    char    path[300];
     hid_t   dset;
     hsize_t n;
 
-    if (len < 0 || len >= (ssize_t)sizeof(name)) {
-      H5Gclose(grp);
-      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets: the name of set %llu cannot be read or is longer than %d characters", d->path, (unsigned long long)k, (int)sizeof(name) - 1);
-    }
+    PetscCheck(strlen(name) < 256, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets: the name of set '%.40s...' is longer than 255 characters", d->path, name);
     /* a set name becomes part of option names (-loads_NAME, -supports_NAME_u1) */
     for (const char *c = name; *c; c++)
-      if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') || *c == '_')) {
-        H5Gclose(grp);
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets/%s: set names may hold only letters, digits and '_' (they become scene keys loads.NAME, supports.NAME)", d->path, name);
-      }
+      PetscCheck((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') || *c == '_', PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /sets/%s: set names may hold only letters, digits and '_' (they become scene keys loads.NAME, supports.NAME)", d->path, name);
     PetscCall(PetscSNPrintf(path, sizeof(path), "/sets/%s", name));
     PetscCall(PetscStrallocpy(name, &d->setname[d->nsets]));
     d->nsets++;
@@ -197,7 +244,6 @@ static PetscErrorCode BwFileReadSets(BwFileData *d)
     PetscCall(PetscMalloc1(n + 1, &d->setdata[d->nsets - 1]));
     PetscCall(BwH5Read(d, path, dset, H5T_NATIVE_INT64, n, d->setdata[d->nsets - 1]));
   }
-  H5Gclose(grp);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -485,27 +531,42 @@ static PetscErrorCode BwGeometryBcast(BwGeometry g)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwGeneratorFile(BwGeometry g, BwScene scene, PetscReal thickness)
+typedef struct {
+  char name[PETSC_MAX_PATH_LEN];               /* as written */
+  char path[PETSC_MAX_PATH_LEN];               /* as opened */
+  char where[PETSC_MAX_PATH_LEN + 64];         /* where geometry.file was set */
+} BwFileOptions;
+
+static PetscErrorCode BwFileSetFromOptions(BwGenerator gen, BwGeometry g, BwScene scene)
 {
-  BwFileData     d;
-  char           name[PETSC_MAX_PATH_LEN] = "", msg[BW_MSG_LEN] = "";
+  BwFileOptions *o = (BwFileOptions *)gen->data;
   const char    *dir;
   PetscBool      set;
-  PetscMPIInt    rank;
-  int            err = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwSceneHelpSection(scene, "Geometry file (scene key geometry.file)"));
+  PetscCall(BwSceneString(scene, "-geometry_file", "HDF5 geometry: /blocks/vertices, /blocks/offsets, optional /interfaces/blocks, kn, kt, /sets/NAME (in the scene file: relative to its directory)", o->name, sizeof(o->name), &set));
+  if (!set || !o->name[0]) PetscCall(BwSceneError(scene, "-geometry_file", "must name an HDF5 geometry file when geometry.generator is file"));
+  PetscCall(BwSceneLocate(scene, "-geometry_file", o->where, sizeof(o->where)));
+  PetscCall(BwSceneGetDirectory(scene, &dir));
+  if (o->name[0] == '/' || !strncmp(o->where, "command line", 12) || !dir || !strcmp(dir, ".")) PetscCall(PetscStrncpy(o->path, o->name, sizeof(o->path)));
+  else PetscCall(PetscSNPrintf(o->path, sizeof(o->path), "%s/%s", dir, o->name));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwFileGenerate(BwGenerator gen, BwGeometry g, BwScene scene, PetscReal thickness)
+{
+  const BwFileOptions *o = (BwFileOptions *)gen->data;
+  BwFileData           d;
+  char                 msg[BW_MSG_LEN] = "";
+  PetscMPIInt          rank;
+  int                  err = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&d, sizeof(d)));
   d.file = -1;
-  PetscOptionsBegin(g->comm, NULL, "Geometry file (scene key geometry.file)", NULL);
-  PetscCall(PetscOptionsString("-geometry_file", "HDF5 geometry: /blocks/vertices, /blocks/offsets, optional /interfaces/blocks, kn, kt, /sets/NAME (in the scene file: relative to its directory)", NULL, name, name, sizeof(name), &set));
-  PetscOptionsEnd();
-  if (!set || !name[0]) PetscCall(BwSceneError(scene, "-geometry_file", "must name an HDF5 geometry file when geometry.generator is file"));
-  PetscCall(BwSceneLocate(scene, "-geometry_file", d.where, sizeof(d.where)));
-  PetscCall(BwSceneGetDirectory(scene, &dir));
-  if (name[0] == '/' || !strncmp(d.where, "command line", 12) || !dir || !strcmp(dir, ".")) PetscCall(PetscStrncpy(d.path, name, sizeof(d.path)));
-  else PetscCall(PetscSNPrintf(d.path, sizeof(d.path), "%s/%s", dir, name));
-
+  PetscCall(PetscStrncpy(d.path, o->path, sizeof(d.path)));
+  PetscCall(PetscStrncpy(d.where, o->where, sizeof(d.where)));
   PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
   if (!rank) {
     PetscErrorCode ierr = BwFileBuild(g, &d, thickness);
@@ -523,5 +584,25 @@ PetscErrorCode BwGeneratorFile(BwGeometry g, BwScene scene, PetscReal thickness)
     SETERRQ(g->comm, (PetscErrorCode)err, "%s", msg);
   }
   PetscCall(BwGeometryBcast(g));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwFileDestroy(BwGenerator gen)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(gen->data));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGeneratorCreate_File(BwGenerator gen)
+{
+  BwFileOptions *o;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&o));
+  gen->data           = o;
+  gen->setfromoptions = BwFileSetFromOptions;
+  gen->generate       = BwFileGenerate;
+  gen->destroy        = BwFileDestroy;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -8,10 +8,10 @@
 
 static PetscFunctionList BwGeometryList = NULL;
 
-PetscErrorCode BwGeometryRegister(const char name[], BwGeometryGenerator generator)
+PetscErrorCode BwGeometryRegister(const char name[], BwGeneratorCreate create)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFunctionListAdd(&BwGeometryList, name, generator));
+  PetscCall(PetscFunctionListAdd(&BwGeometryList, name, create));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -19,9 +19,9 @@ static PetscErrorCode BwGeometryRegisterAll(void)
 {
   PetscFunctionBeginUser;
   if (BwGeometryList) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(BwGeometryRegister("two_blocks", BwGeneratorTwoBlocks));
-  PetscCall(BwGeometryRegister("file", BwGeneratorFile));
-  PetscCall(BwGeometryRegister("running_bond", BwGeneratorRunningBond));
+  PetscCall(BwGeometryRegister("two_blocks", BwGeneratorCreate_TwoBlocks));
+  PetscCall(BwGeometryRegister("file", BwGeneratorCreate_File));
+  PetscCall(BwGeometryRegister("running_bond", BwGeneratorCreate_RunningBond));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -45,6 +45,8 @@ PetscErrorCode BwGeometryDestroy(BwGeometry *geom)
   PetscFunctionBeginUser;
   if (!*geom) PetscFunctionReturn(PETSC_SUCCESS);
   g = *geom;
+  if (g->generator && g->generator->destroy) PetscCall(g->generator->destroy(g->generator));
+  PetscCall(PetscFree(g->generator));
   PetscCall(PetscFree(g->offsets));
   PetscCall(PetscFree(g->vertices));
   PetscCall(PetscFree(g->centroid));
@@ -200,19 +202,18 @@ PetscErrorCode BwGeometryComputeCentroids(BwGeometry g)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene, PetscReal thickness)
+PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene)
 {
-  char                generator[64] = "two_blocks";
-  BwGeometryGenerator create;
-  PetscBool           set;
+  char              generator[64] = "two_blocks";
+  BwGeneratorCreate create;
 
   PetscFunctionBeginUser;
   PetscCall(BwGeometryRegisterAll());
-  PetscOptionsBegin(g->comm, NULL, "Geometry (scene key geometry.*)", NULL);
-  PetscCall(PetscOptionsFList("-geometry_generator", "Block assembly generator", NULL, BwGeometryList, generator, generator, sizeof(generator), NULL));
-  PetscCall(PetscOptionsReal("-geometry_depth", "Out-of-plane depth s of blocks and interfaces [m]", NULL, g->depth, &g->depth, &set));
-  PetscOptionsEnd();
-  if (!(g->depth > 0 && PetscIsNormalReal(g->depth))) PetscCall(BwSceneError(scene, "-geometry_depth", "must be > 0, got %g", (double)g->depth));
+  PetscCall(BwSceneHelpSection(scene, "Geometry (scene key geometry.*)"));
+  PetscCall(BwSceneRequireMapping(scene, "-geometry", "generator, depth and the generator's keys"));
+  PetscCall(BwSceneString(scene, "-geometry_generator", "Block assembly generator: two_blocks, running_bond or file", generator, sizeof(generator), NULL));
+  PetscCall(BwSceneReal(scene, "-geometry_depth", "Out-of-plane depth s of blocks and interfaces [m]", &g->depth, NULL));
+  if (!(g->depth > 0)) PetscCall(BwSceneError(scene, "-geometry_depth", "must be > 0, got %g", (double)g->depth));
   PetscCall(PetscFunctionListFind(BwGeometryList, generator, &create));
   if (!create) {
     char         names[256] = "";
@@ -228,7 +229,16 @@ PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene, PetscReal t
     PetscCall(PetscFree(list));
     PetscCall(BwSceneError(scene, "-geometry_generator", "must be one of %s, got '%s'", names, generator));
   }
-  PetscCall((*create)(g, scene, thickness));
+  PetscCall(PetscNew(&g->generator));
+  PetscCall((*create)(g->generator));
+  PetscCall(g->generator->setfromoptions(g->generator, g, scene));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGeometrySetUp(BwGeometry g, BwScene scene, PetscReal thickness)
+{
+  PetscFunctionBeginUser;
+  PetscCall(g->generator->generate(g->generator, g, scene, thickness));
   PetscCall(BwGeometryComputeCentroids(g));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -4,14 +4,18 @@
  * The geometry is replicated on every rank: it is a few hundred bytes per
  * block, generation is O(N) and deterministic, and every rank then knows the
  * neighbours of what it owns without communication. Generators fill it; they
- * are registered by name in a PetscFunctionList (geometry.generator). */
+ * are registered by name in a PetscFunctionList (geometry.generator): each
+ * reads its keys first (BwGeometrySetFromOptions, before any work, so that
+ * every key is known and checked before a large assembly is generated),
+ * then generates (BwGeometrySetUp). */
 #pragma once
 #include <petscsys.h>
 #include "scene/scene.h"
 
 typedef enum { BW_JOINT_BED = 0, BW_JOINT_HEAD = 1 } BwJointKind;
 
-typedef struct _n_BwGeometry *BwGeometry;
+typedef struct _n_BwGeometry  *BwGeometry;
+typedef struct _n_BwGenerator *BwGenerator;
 struct _n_BwGeometry {
   MPI_Comm   comm;
   PetscReal  depth; /* s [m] */
@@ -34,19 +38,29 @@ struct _n_BwGeometry {
   char     **setname;
   PetscInt  *setoffsets; /* nsets+1 */
   PetscInt  *setblocks;
+  BwGenerator generator;
   /* bookkeeping while a generator fills the arrays */
   PetscInt nvertices, maxvertices, maxblocks, maxinterfaces, maxsetblocks, maxsets;
 };
 
-/* A generator fills blocks, interfaces and sets; `thickness` is the joint
- * thickness e [m], the gap it leaves between block faces. */
-typedef PetscErrorCode (*BwGeometryGenerator)(BwGeometry geom, BwScene scene, PetscReal thickness);
+/* A generator: its options (data), read by setfromoptions; generate fills
+ * blocks, interfaces and sets, `thickness` being the joint thickness e [m],
+ * the gap it leaves between block faces. A type's create function sets the
+ * operations, as PETSc's XXXCreate_Type do. */
+struct _n_BwGenerator {
+  void *data;
+  PetscErrorCode (*setfromoptions)(BwGenerator gen, BwGeometry geom, BwScene scene);
+  PetscErrorCode (*generate)(BwGenerator gen, BwGeometry geom, BwScene scene, PetscReal thickness);
+  PetscErrorCode (*destroy)(BwGenerator gen);
+};
+typedef PetscErrorCode (*BwGeneratorCreate)(BwGenerator gen);
 
 PetscErrorCode BwGeometryCreate(MPI_Comm comm, BwGeometry *geom);
-PetscErrorCode BwGeometryRegister(const char name[], BwGeometryGenerator generator);
-/* Reads geometry.generator and geometry.depth, runs the generator and
- * derives centroids and areas. */
-PetscErrorCode BwGeometrySetFromOptions(BwGeometry geom, BwScene scene, PetscReal thickness);
+PetscErrorCode BwGeometryRegister(const char name[], BwGeneratorCreate create);
+/* Reads geometry.generator, geometry.depth and the generator's keys. */
+PetscErrorCode BwGeometrySetFromOptions(BwGeometry geom, BwScene scene);
+/* Runs the generator and derives centroids and areas. */
+PetscErrorCode BwGeometrySetUp(BwGeometry geom, BwScene scene, PetscReal thickness);
 PetscErrorCode BwGeometryDestroy(BwGeometry *geom);
 
 /* Building blocks for generators. */
@@ -60,6 +74,6 @@ PetscErrorCode BwGeometryFindSet(BwGeometry geom, const char name[], PetscInt *s
 /* Comma-separated list of the set names, for error messages. */
 PetscErrorCode BwGeometryGetSetNames(BwGeometry geom, char buf[], size_t len);
 
-PetscErrorCode BwGeneratorTwoBlocks(BwGeometry geom, BwScene scene, PetscReal thickness);
-PetscErrorCode BwGeneratorFile(BwGeometry geom, BwScene scene, PetscReal thickness);
-PetscErrorCode BwGeneratorRunningBond(BwGeometry geom, BwScene scene, PetscReal thickness);
+PetscErrorCode BwGeneratorCreate_TwoBlocks(BwGenerator gen);
+PetscErrorCode BwGeneratorCreate_File(BwGenerator gen);
+PetscErrorCode BwGeneratorCreate_RunningBond(BwGenerator gen);

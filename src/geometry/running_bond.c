@@ -16,6 +16,7 @@
  * Block order: foundation, courses bottom to top each from the left, top beam. */
 #include "geometry/geometry.h"
 #include "util/compat.h"
+#include "util/log.h"
 
 typedef struct {
   PetscInt  first, n;  /* block indices first..first+n-1, left to right */
@@ -59,43 +60,104 @@ static int BwPendingCompare(const void *pa, const void *pb)
   return (a->G[0] > b->G[0]) - (a->G[0] < b->G[0]);
 }
 
-PetscErrorCode BwGeneratorRunningBond(BwGeometry g, BwScene scene, PetscReal e)
+static PetscErrorCode BwRunningBondGenerate(BwGenerator gen, BwGeometry g, BwScene scene, PetscReal e);
+
+typedef struct {
+  PetscInt   courses, n, nopen;
+  PetscReal  lu, hu, hf, hb, *openings;
+  PetscBool  foundation, top_beam;
+} BwRunningBond;
+
+static PetscErrorCode BwRunningBondSetFromOptions(BwGenerator gen, BwGeometry g, BwScene scene)
 {
-  PetscInt            courses = 18, n = 10, nopen = 0, nrows, nunits = 0, nint = 0, maxint;
-  PetscReal           lu = 0.21, hu = 0.052, hf = 0.1, hb = 0.1, openings[4 * 64], L, half, tol;
-  PetscBool           foundation = PETSC_TRUE, top_beam = PETSC_TRUE;
-  BwRow              *rows;
-  BwPendingInterface *pend;
-  PetscReal          *xs0, *xs1;
-  PetscInt           *units, *bottom, *top, nbottom = 0, ntop = 0;
+  BwRunningBond *o = (BwRunningBond *)gen->data;
 
   PetscFunctionBeginUser;
-  nopen = 4 * 64;
-  PetscOptionsBegin(g->comm, NULL, "Running-bond wall (scene key geometry.running_bond.*)", NULL);
-  PetscCall(PetscOptionsInt("-geometry_running_bond_courses", "Number of courses", NULL, courses, &courses, NULL));
-  PetscCall(PetscOptionsInt("-geometry_running_bond_units_per_course", "Full units in a course that starts with one", NULL, n, &n, NULL));
-  PetscCall(PetscOptionsReal("-geometry_running_bond_unit_length", "Unit length l_u [m]", NULL, lu, &lu, NULL));
-  PetscCall(PetscOptionsReal("-geometry_running_bond_unit_height", "Unit height h_u [m]", NULL, hu, &hu, NULL));
-  PetscCall(PetscOptionsBool("-geometry_running_bond_foundation", "One block under the whole bottom course", NULL, foundation, &foundation, NULL));
-  PetscCall(PetscOptionsReal("-geometry_running_bond_foundation_height", "Foundation height h_f [m]", NULL, hf, &hf, NULL));
-  PetscCall(PetscOptionsBool("-geometry_running_bond_top_beam", "One block over the whole top course", NULL, top_beam, &top_beam, NULL));
-  PetscCall(PetscOptionsReal("-geometry_running_bond_top_beam_height", "Top beam height h_b [m]", NULL, hb, &hb, NULL));
-  PetscCall(PetscOptionsRealArray("-geometry_running_bond_openings", "Openings x0,y0,x1,y1,... : units whose centroid lies inside are left out [m]", NULL, openings, &nopen, NULL));
-  PetscOptionsEnd();
-  if (courses < 1) PetscCall(BwSceneError(scene, "-geometry_running_bond_courses", "must be >= 1, got %" PetscInt_FMT, courses));
-  if (n < 1) PetscCall(BwSceneError(scene, "-geometry_running_bond_units_per_course", "must be >= 1, got %" PetscInt_FMT, n));
-  if (!(lu > 0 && PetscIsNormalReal(lu))) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_length", "must be > 0, got %g", (double)lu));
-  if (!(hu > 0 && PetscIsNormalReal(hu))) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_height", "must be > 0, got %g", (double)hu));
-  if (!(hf > 0 && PetscIsNormalReal(hf))) PetscCall(BwSceneError(scene, "-geometry_running_bond_foundation_height", "must be > 0, got %g", (double)hf));
-  if (!(hb > 0 && PetscIsNormalReal(hb))) PetscCall(BwSceneError(scene, "-geometry_running_bond_top_beam_height", "must be > 0, got %g", (double)hb));
-  if (!(lu > e)) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_length", "must exceed the joint thickness %g so that half units (l_u - e)/2 exist, got %g", (double)e, (double)lu));
-  if (nopen % 4) PetscCall(BwSceneError(scene, "-geometry_running_bond_openings", "must hold 4 numbers x0, y0, x1, y1 per opening, got %" PetscInt_FMT, nopen));
-  nopen /= 4;
-  for (PetscInt o = 0; o < nopen; o++) {
-    const PetscReal *r = &openings[4 * o];
-    if (!(r[2] > r[0] && r[3] > r[1])) PetscCall(BwSceneError(scene, "-geometry_running_bond_openings", "opening %" PetscInt_FMT " needs x0 < x1 and y0 < y1, got [%g, %g, %g, %g]", o, (double)r[0], (double)r[1], (double)r[2], (double)r[3]));
+  PetscCall(BwSceneHelpSection(scene, "Running-bond wall (scene key geometry.running_bond.*)"));
+  PetscCall(BwSceneRequireMapping(scene, "-geometry_running_bond", "courses, units_per_course, unit sizes, foundation, top beam, openings"));
+  PetscCall(BwSceneInt(scene, "-geometry_running_bond_courses", "Number of courses", &o->courses, NULL));
+  PetscCall(BwSceneInt(scene, "-geometry_running_bond_units_per_course", "Full units in a course that starts with one", &o->n, NULL));
+  PetscCall(BwSceneReal(scene, "-geometry_running_bond_unit_length", "Unit length l_u [m]", &o->lu, NULL));
+  PetscCall(BwSceneReal(scene, "-geometry_running_bond_unit_height", "Unit height h_u [m]", &o->hu, NULL));
+  PetscCall(BwSceneBool(scene, "-geometry_running_bond_foundation", "One block under the whole bottom course", &o->foundation, NULL));
+  PetscCall(BwSceneReal(scene, "-geometry_running_bond_foundation_height", "Foundation height h_f [m]", &o->hf, NULL));
+  PetscCall(BwSceneBool(scene, "-geometry_running_bond_top_beam", "One block over the whole top course", &o->top_beam, NULL));
+  PetscCall(BwSceneReal(scene, "-geometry_running_bond_top_beam_height", "Top beam height h_b [m]", &o->hb, NULL));
+  PetscCall(BwSceneRealArray(scene, "-geometry_running_bond_openings", "Openings [[x0, y0, x1, y1], ...]: units whose centroid lies inside are left out [m]", &o->openings, &o->nopen, NULL));
+  if (o->courses < 1) PetscCall(BwSceneError(scene, "-geometry_running_bond_courses", "must be >= 1, got %" PetscInt_FMT, o->courses));
+  if (o->n < 1) PetscCall(BwSceneError(scene, "-geometry_running_bond_units_per_course", "must be >= 1, got %" PetscInt_FMT, o->n));
+  if (!(o->lu > 0)) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_length", "must be > 0, got %g", (double)o->lu));
+  if (!(o->hu > 0)) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_height", "must be > 0, got %g", (double)o->hu));
+  if (!(o->hf > 0)) PetscCall(BwSceneError(scene, "-geometry_running_bond_foundation_height", "must be > 0, got %g", (double)o->hf));
+  if (!(o->hb > 0)) PetscCall(BwSceneError(scene, "-geometry_running_bond_top_beam_height", "must be > 0, got %g", (double)o->hb));
+  if (o->nopen % 4) PetscCall(BwSceneError(scene, "-geometry_running_bond_openings", "must hold 4 numbers x0, y0, x1, y1 per opening, got %" PetscInt_FMT, o->nopen));
+  o->nopen /= 4;
+  for (PetscInt k = 0; k < o->nopen; k++) {
+    const PetscReal *r = &o->openings[4 * k];
+    if (!(r[2] > r[0] && r[3] > r[1])) PetscCall(BwSceneError(scene, "-geometry_running_bond_openings", "opening %" PetscInt_FMT " needs x0 < x1 and y0 < y1, got [%g, %g, %g, %g]", k, (double)r[0], (double)r[1], (double)r[2], (double)r[3]));
   }
+  {
+    /* indices are PetscInt: 4 per block must fit */
+    PetscReal blocks = (PetscReal)o->courses * (PetscReal)(o->n + 1) + 2;
+    if (4 * blocks > (PetscReal)PETSC_MAX_INT) PetscCall(BwSceneError(scene, "-geometry_running_bond_courses", "and units_per_course ask for %.3g blocks; this PETSc's %d-bit indices allow at most %.3g", (double)blocks, (int)(8 * sizeof(PetscInt)), (double)PETSC_MAX_INT / 4));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
+static PetscErrorCode BwRunningBondDestroy(BwGenerator gen)
+{
+  BwRunningBond *o = (BwRunningBond *)gen->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(o->openings));
+  PetscCall(PetscFree(gen->data));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGeneratorCreate_RunningBond(BwGenerator gen)
+{
+  BwRunningBond *o;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&o));
+  o->courses          = 18;
+  o->n                = 10;
+  o->lu               = 0.21;
+  o->hu               = 0.052;
+  o->hf               = 0.1;
+  o->hb               = 0.1;
+  o->foundation       = PETSC_TRUE;
+  o->top_beam         = PETSC_TRUE;
+  gen->data           = o;
+  gen->setfromoptions = BwRunningBondSetFromOptions;
+  gen->generate       = BwRunningBondGenerate;
+  gen->destroy        = BwRunningBondDestroy;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwRunningBondGenerate(BwGenerator gen, BwGeometry g, BwScene scene, PetscReal e)
+{
+  const BwRunningBond *o       = (BwRunningBond *)gen->data;
+  const PetscInt       courses = o->courses, n = o->n, nopen = o->nopen;
+  const PetscReal      lu = o->lu, hu = o->hu, hf = o->hf, hb = o->hb, *openings = o->openings;
+  const PetscBool      foundation = o->foundation, top_beam = o->top_beam;
+  PetscInt             nrows, nunits = 0, nint = 0, maxint;
+  PetscReal            L, half, tol;
+  BwRow               *rows;
+  BwPendingInterface  *pend;
+  PetscReal           *xs0, *xs1;
+  PetscInt            *units, *bottom, *top, nbottom = 0, ntop = 0;
+
+  PetscFunctionBeginUser;
+  if (!(lu > e)) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_length", "must exceed the joint thickness %g so that half units (l_u - e)/2 exist, got %g", (double)e, (double)lu));
+  {
+    /* what the generator allocates, on every rank (the geometry is
+     * replicated), before it allocates it: ~0.5 KB per block */
+    PetscReal blocks = (PetscReal)courses * (PetscReal)(n + 1) + 2;
+    char      what[256];
+    PetscCall(PetscSNPrintf(what, sizeof(what), "geometry.running_bond: %" PetscInt_FMT " courses of %" PetscInt_FMT " units (%.3g blocks)", courses, n, (double)blocks));
+    PetscCall(BwMemoryRequire(g->comm, blocks * 520.0, what));
+  }
   L    = n * lu + (n - 1) * e;
   half = 0.5 * (lu - e);
   tol  = 1e-9 * lu;
@@ -143,8 +205,8 @@ PetscErrorCode BwGeneratorRunningBond(BwGeometry g, BwScene scene, PetscReal e)
           x0 = half + e + (p - 1) * (lu + e);
           x1 = x0 + lu;
         }
-        for (PetscInt o = 0; o < nopen && !open; o++) {
-          const PetscReal *q = &openings[4 * o], cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+        for (PetscInt k = 0; k < nopen && !open; k++) {
+          const PetscReal *q = &openings[4 * k], cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
           open = (cx >= q[0] && cx <= q[2] && cy >= q[1] && cy <= q[3]) ? PETSC_TRUE : PETSC_FALSE;
         }
         if (open) continue;

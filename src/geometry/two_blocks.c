@@ -4,20 +4,32 @@
 #include "geometry/geometry.h"
 #include "util/compat.h"
 
-PetscErrorCode BwGeneratorTwoBlocks(BwGeometry g, BwScene scene, PetscReal e)
+typedef struct {
+  PetscReal l, a;
+} BwTwoBlocks;
+
+static PetscErrorCode BwTwoBlocksSetFromOptions(BwGenerator gen, BwGeometry g, BwScene scene)
 {
-  PetscReal       l = 0.2, a = 0.1;
-  const PetscInt  bottom = 0, top = 1;
-  PetscReal       G[2];
+  BwTwoBlocks *o = (BwTwoBlocks *)gen->data;
 
   PetscFunctionBeginUser;
-  PetscOptionsBegin(g->comm, NULL, "Two stacked blocks (scene key geometry.two_blocks.*)", NULL);
-  PetscCall(PetscOptionsReal("-geometry_two_blocks_length", "Block and interface length l [m]", NULL, l, &l, NULL));
-  PetscCall(PetscOptionsReal("-geometry_two_blocks_height", "Height a of both blocks [m]", NULL, a, &a, NULL));
-  PetscOptionsEnd();
-  if (!(l > 0 && PetscIsNormalReal(l))) PetscCall(BwSceneError(scene, "-geometry_two_blocks_length", "must be > 0, got %g", (double)l));
-  if (!(a > 0 && PetscIsNormalReal(a))) PetscCall(BwSceneError(scene, "-geometry_two_blocks_height", "must be > 0, got %g", (double)a));
+  PetscCall(BwSceneHelpSection(scene, "Two stacked blocks (scene key geometry.two_blocks.*)"));
+  PetscCall(BwSceneRequireMapping(scene, "-geometry_two_blocks", "length, height"));
+  PetscCall(BwSceneReal(scene, "-geometry_two_blocks_length", "Block and interface length l [m]", &o->l, NULL));
+  PetscCall(BwSceneReal(scene, "-geometry_two_blocks_height", "Height a of both blocks [m]", &o->a, NULL));
+  if (!(o->l > 0)) PetscCall(BwSceneError(scene, "-geometry_two_blocks_length", "must be > 0, got %g", (double)o->l));
+  if (!(o->a > 0)) PetscCall(BwSceneError(scene, "-geometry_two_blocks_height", "must be > 0, got %g", (double)o->a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
+static PetscErrorCode BwTwoBlocksGenerate(BwGenerator gen, BwGeometry g, BwScene scene, PetscReal e)
+{
+  const BwTwoBlocks *o = (BwTwoBlocks *)gen->data;
+  const PetscReal    l = o->l, a = o->a;
+  const PetscInt     bottom = 0, top = 1;
+  PetscReal          G[2];
+
+  PetscFunctionBeginUser;
   PetscCall(BwGeometryAddRectangle(g, 0, 0, l, a, NULL));
   PetscCall(BwGeometryAddRectangle(g, 0, a + e, l, 2 * a + e, NULL));
   G[0] = l / 2;
@@ -25,5 +37,27 @@ PetscErrorCode BwGeneratorTwoBlocks(BwGeometry g, BwScene scene, PetscReal e)
   PetscCall(BwGeometryAddInterface(g, 0, 1, G, 0.0, l, BW_JOINT_BED));
   PetscCall(BwGeometryAddSet(g, "bottom", 1, &bottom));
   PetscCall(BwGeometryAddSet(g, "top", 1, &top));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwTwoBlocksDestroy(BwGenerator gen)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(gen->data));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGeneratorCreate_TwoBlocks(BwGenerator gen)
+{
+  BwTwoBlocks *o;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&o));
+  o->l                = 0.2;
+  o->a                = 0.1;
+  gen->data           = o;
+  gen->setfromoptions = BwTwoBlocksSetFromOptions;
+  gen->generate       = BwTwoBlocksGenerate;
+  gen->destroy        = BwTwoBlocksDestroy;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

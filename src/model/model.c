@@ -6,12 +6,12 @@
  * any supports_* / loads_* option that matches no set is reported with the
  * file line it came from, since a misspelt set would otherwise leave a block
  * silently free or unloaded. */
+#include <ctype.h>
 #include <string.h>
 #include "model/model.h"
 #include "util/compat.h"
 
 static const char *const BwJointLawTypes[] = {"mortar", "dry", "BwJointLawType", "BW_LAW_", NULL};
-static const char *const BwDofNames[3]     = {"u1", "u2", "w"};
 #define BW_GRAVITY 9.81
 
 PetscErrorCode BwJointLawSetFromOptions(BwJointLaw *law, BwScene scene, const char prefix[], const BwJointLaw *parent)
@@ -35,14 +35,19 @@ PetscErrorCode BwJointLawSetFromOptions(BwJointLaw *law, BwScene scene, const ch
     for (int k = 0; k < 6; k++) PetscCall(PetscSNPrintf(opt[k], sizeof(opt[k]), "-%s%s", prefix, keys[k]));
   }
   type = law->type;
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, parent ? "Head joints (scene key joints.head.*, running_bond; unset keys as joints.*)" : "Joints (scene key joints.*)", NULL);
-  PetscCall(PetscOptionsEList(opt[0], "Joint law: mortar (E, nu, thickness) or dry (kn, kt)", NULL, BwJointLawTypes, 2, BwJointLawTypes[type], &type, NULL));
-  PetscCall(PetscOptionsReal(opt[1], "Joint thickness e, the gap between block faces [m] (dry default 0)", NULL, law->thickness, &law->thickness, &sete));
-  PetscCall(PetscOptionsReal(opt[2], "Mortar Young's modulus E [Pa]", NULL, law->E, &law->E, &setE));
-  PetscCall(PetscOptionsReal(opt[3], "Mortar Poisson's ratio nu [-]", NULL, law->nu, &law->nu, &setnu));
-  PetscCall(PetscOptionsReal(opt[4], "Dry joint normal stiffness kn [N/m^3]", NULL, law->kn, &law->kn, &setkn));
-  PetscCall(PetscOptionsReal(opt[5], "Dry joint shear stiffness kt [N/m^3]", NULL, law->kt, &law->kt, &setkt));
-  PetscOptionsEnd();
+  PetscCall(BwSceneHelpSection(scene, parent ? "Head joints (scene key joints.head.*, running_bond; unset keys as joints.*)" : "Joints (scene key joints.*)"));
+  {
+    char mapping[128]; /* -joints, -joints_head */
+    PetscCall(PetscSNPrintf(mapping, sizeof(mapping), "-%s", prefix));
+    mapping[strlen(mapping) - 1] = 0;
+    PetscCall(BwSceneRequireMapping(scene, mapping, "law, thickness, E, nu or kn, kt"));
+  }
+  PetscCall(BwSceneEnum(scene, opt[0], "Joint law: mortar (E, nu, thickness) or dry (kn, kt)", 2, BwJointLawTypes, &type, NULL));
+  PetscCall(BwSceneReal(scene, opt[1], "Joint thickness e, the gap between block faces [m] (dry default 0)", &law->thickness, &sete));
+  PetscCall(BwSceneReal(scene, opt[2], "Mortar Young's modulus E [Pa]", &law->E, &setE));
+  PetscCall(BwSceneReal(scene, opt[3], "Mortar Poisson's ratio nu [-]", &law->nu, &setnu));
+  PetscCall(BwSceneReal(scene, opt[4], "Dry joint normal stiffness kn [N/m^3]", &law->kn, &setkn));
+  PetscCall(BwSceneReal(scene, opt[5], "Dry joint shear stiffness kt [N/m^3]", &law->kt, &setkt));
   law->type = (BwJointLawType)type;
   if (law->type == BW_LAW_DRY && !sete && !parent) law->thickness = 0;
 
@@ -65,16 +70,12 @@ PetscErrorCode BwJointLawSetFromOptions(BwJointLaw *law, BwScene scene, const ch
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwModelCreate(BwGeometry geom, BwModel *model)
+PetscErrorCode BwModelCreate(MPI_Comm comm, BwModel *model)
 {
-  PetscInt nb = geom->nblocks, ni = geom->ninterfaces;
-
   PetscFunctionBeginUser;
   PetscCall(PetscNew(model));
-  (*model)->geom = geom;
+  (*model)->comm = comm;
   (*model)->m    = 16;
-  PetscCall(PetscCalloc2(ni, &(*model)->kn, ni, &(*model)->kt));
-  PetscCall(PetscCalloc3(3 * nb, &(*model)->prescribed, 3 * nb, &(*model)->value, 3 * nb, &(*model)->load));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -88,108 +89,207 @@ PetscErrorCode BwModelDestroy(BwModel *model)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Every option under `prefix` (supports_ or loads_) must be <set><suffix>
- * for one of the suffixes; anything else names a set that does not exist. */
-static PetscErrorCode BwModelCheckSetKeys(BwModel model, BwScene scene, const char prefix[], PetscInt nsuffix, const char *const suffix[], const char what[])
+/* The block set an option under `prefix` names, with one of `suffix`
+ * after it: "supports_top_beam_u1" -> set top_beam, dof 0. Set names may
+ * hold '_', so the name is split at each suffix and looked up in a map of
+ * the set names: linear in the number of keys (a scan of every set for
+ * every key made 600 loaded sets quadratic). *set = -1: no such set. */
+static void BwModelParseSetKey(const BwNameMap *sets, const char name[], size_t plen, PetscInt nsuffix, const char *const suffix[], PetscInt *set, PetscInt *which)
 {
-  BwGeometry g = model->geom;
-  PetscInt   n;
-  char     **names;
+  size_t n = strlen(name);
+  char   buf[PETSC_MAX_OPTION_NAME];
+
+  *set = *which = -1;
+  for (PetscInt k = 0; k < nsuffix && *set < 0; k++) {
+    size_t ls = strlen(suffix[k]);
+    if (n < plen + ls + 1 || n - plen >= sizeof(buf) || !BwSameName(name + n - ls, suffix[k])) continue;
+    memcpy(buf, name + plen, n - plen - ls);
+    buf[n - plen - ls] = 0;
+    *set               = BwNameMapGet(sets, buf);
+    *which             = k;
+  }
+}
+
+static PetscBool BwHasPrefixCI(const char name[], const char prefix[])
+{
+  for (; *prefix; name++, prefix++)
+    if (!*name || tolower((unsigned char)*name) != tolower((unsigned char)*prefix)) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* A key under `prefix` that names no set and dof: if it starts with a set's
+ * name, the set's own key is of the wrong kind (supports.foundation: [0, 0,
+ * 0], loads.top_beam: {a: 1}) and reading it says so; else the set does not
+ * exist. */
+static PetscErrorCode BwModelUnknownSet(BwModel model, BwScene scene, const BwNameMap *setmap, const char name[], size_t plen, PetscBool loads, const char what[])
+{
+  char opt[PETSC_MAX_OPTION_NAME + 1], sets[1024], buf[PETSC_MAX_OPTION_NAME];
 
   PetscFunctionBeginUser;
-  PetscCall(BwSceneListOptions(scene, prefix, &n, &names));
-  for (PetscInt o = 0; o < n; o++) {
-    PetscBool match = PETSC_FALSE;
-    for (PetscInt s = 0; s < g->nsets && !match; s++) {
-      for (PetscInt k = 0; k < nsuffix && !match; k++) {
-        char want[256];
-        PetscCall(PetscSNPrintf(want, sizeof(want), "%s%s%s", prefix, g->setname[s], suffix[k]));
-        PetscCall(PetscStrcmp(want, names[o], &match));
+  for (size_t k = plen; name[k] && k - plen < sizeof(buf); k++) {
+    if (name[k + 1] && name[k + 1] != '_') continue;
+    memcpy(buf, name + plen, k + 1 - plen);
+    buf[k + 1 - plen] = 0;
+    if (BwNameMapGet(setmap, buf) < 0) continue;
+    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%.*s", (int)(k + 1), name));
+    if (loads) {
+      PetscReal *f;
+      PetscInt   n;
+      PetscCall(BwSceneRealArray(scene, opt, "F1, F2, M3", &f, &n, NULL));
+      PetscCall(PetscFree(f));
+    } else {
+      static const char *const dofs[3] = {"u1", "u2", "w"};
+      PetscCall(BwSceneRequireMapping(scene, opt, "u1, u2, w: prescribed values"));
+      for (int c = 0; c < 3; c++) {
+        char      dof[PETSC_MAX_OPTION_NAME + 4];
+        PetscReal v;
+        PetscCall(PetscSNPrintf(dof, sizeof(dof), "%s_%s", opt, dofs[c]));
+        if (BwHasPrefixCI(name, dof + 1)) PetscCall(BwSceneReal(scene, dof, "prescribed value", &v, NULL));
       }
     }
-    if (!match) {
-      char opt[256], sets[1024];
-      PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", names[o]));
-      PetscCall(BwGeometryGetSetNames(g, sets, sizeof(sets)));
-      PetscCall(BwSceneError(scene, opt, "%s (sets: %s)", what, sets));
-    }
   }
-  PetscCall(PetscStrArrayDestroy(&names));
+  PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", name));
+  PetscCall(BwGeometryGetSetNames(model->geom, sets, sizeof(sets)));
+  PetscCall(BwSceneError(scene, opt, "%s (sets: %s)", what, sets));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene, const BwJointLaw *bed, const BwJointLaw *head)
+static PetscErrorCode BwModelSetMap(BwGeometry g, BwNameMap *map)
+{
+  PetscFunctionBeginUser;
+  PetscCall(BwNameMapInit(map));
+  for (PetscInt s = 0; s < g->nsets; s++) PetscCall(BwNameMapAdd(map, g->setname[s], s, NULL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwModelSetLoads(BwModel model, BwScene scene, const char prefix[])
 {
   BwGeometry g = model->geom;
-  PetscInt   m = model->m;
-  PetscReal  density = 0;
+  BwNameMap  sets;
+  PetscInt   n;
+  char     **names, key[PETSC_MAX_OPTION_NAME], opt[PETSC_MAX_OPTION_NAME + 1];
+  PetscReal  density = model->gravity_density;
+  PetscBool  set;
+  size_t     plen;
 
   PetscFunctionBeginUser;
-  PetscOptionsBegin(g->comm, NULL, "Discretisation and self-weight", NULL);
-  PetscCall(PetscOptionsInt("-discretization_m", "Portions m per interface (piecewise-constant stresses)", NULL, m, &m, NULL));
-  PetscCall(PetscOptionsReal("-gravity_density", "Block density for self-weight -density*9.81*area*depth on F2 [kg/m^3]", NULL, density, &density, NULL));
-  PetscOptionsEnd();
+  PetscCall(PetscArrayzero(model->load, 3 * g->nblocks));
+  PetscCall(BwModelSetMap(g, &sets));
+  /* loads.<set> = [F1, F2, M3] on every block of the set */
+  PetscCall(PetscSNPrintf(key, sizeof(key), "%sloads_", prefix));
+  PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%sloads", prefix));
+  PetscCall(BwSceneRequireMapping(scene, opt, "block set: [F1, F2, M3]"));
+  PetscCall(BwSceneListOptions(scene, key, &n, &names));
+  plen = strlen(key);
+  for (PetscInt o = 0; o < n; o++) {
+    const char *const none[1] = {""};
+    PetscInt          s, which, nf;
+    PetscReal        *f;
+
+    BwModelParseSetKey(&sets, names[o], plen, 1, none, &s, &which);
+    if (s < 0) PetscCall(BwModelUnknownSet(model, scene, &sets, names[o], plen, PETSC_TRUE, "does not name a block set"));
+    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", names[o]));
+    PetscCall(BwSceneRealArray(scene, opt, "F1, F2, M3 on every block of the set [N, N, N m]", &f, &nf, NULL));
+    if (nf != 3) PetscCall(BwSceneError(scene, opt, "must have 3 values F1, F2, M3, got %" PetscInt_FMT, nf));
+    for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++)
+      for (PetscInt c = 0; c < 3; c++) model->load[3 * g->setblocks[q] + c] += f[c];
+    PetscCall(PetscFree(f));
+  }
+  PetscCall(PetscStrArrayDestroy(&names));
+  PetscCall(BwNameMapDestroy(&sets));
+  /* self-weight: a case may give its own density */
+  if (prefix[0]) {
+    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%sgravity", prefix));
+    PetscCall(BwSceneRequireMapping(scene, opt, "density"));
+    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%sgravity_density", prefix));
+    PetscCall(BwSceneReal(scene, opt, "Block density of this case [kg/m^3]", &density, &set));
+    if (set && !(density >= 0)) PetscCall(BwSceneError(scene, opt, "must be >= 0, got %g", (double)density));
+  }
+  for (PetscInt b = 0; b < g->nblocks; b++) model->load[3 * b + 1] -= density * BW_GRAVITY * g->area[b] * g->depth;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene)
+{
+  PetscInt  m       = model->m;
+  PetscReal density = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwJointLawSetFromOptions(&model->bed, scene, "joints_", NULL));
+  PetscCall(BwSceneHelpSection(scene, "Discretisation and self-weight (scene keys discretization.*, gravity.*)"));
+  PetscCall(BwSceneRequireMapping(scene, "-discretization", "m"));
+  PetscCall(BwSceneRequireMapping(scene, "-gravity", "density"));
+  PetscCall(BwSceneInt(scene, "-discretization_m", "Portions m per interface (piecewise-constant stresses)", &m, NULL));
+  PetscCall(BwSceneReal(scene, "-gravity_density", "Block density for self-weight -density*9.81*area*depth on F2 [kg/m^3]", &density, NULL));
   if (m < 1) PetscCall(BwSceneError(scene, "-discretization_m", "must be >= 1, got %" PetscInt_FMT, m));
   if (m > 1048576) PetscCall(BwSceneError(scene, "-discretization_m", "must be <= 1048576, got %" PetscInt_FMT, m));
-  if (!(density >= 0 && !PetscIsInfOrNanReal(density))) PetscCall(BwSceneError(scene, "-gravity_density", "must be >= 0, got %g", (double)density));
+  if (!(density >= 0)) PetscCall(BwSceneError(scene, "-gravity_density", "must be >= 0, got %g", (double)density));
   model->m               = m;
   model->gravity_density = density;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-  for (PetscInt k = 0; k < g->ninterfaces; k++) {
-    const BwJointLaw *law = g->kind[k] == BW_JOINT_HEAD ? head : bed;
+PetscErrorCode BwModelAllocate(BwModel model, BwGeometry g)
+{
+  PetscInt nb = g->nblocks, ni = g->ninterfaces;
+
+  PetscFunctionBeginUser;
+  PetscCheck(!model->geom, model->comm, PETSC_ERR_ORDER, "BwModelAllocate: the model already has a geometry");
+  model->geom = g;
+  PetscCall(PetscCalloc2(ni, &model->kn, ni, &model->kt));
+  PetscCall(PetscCalloc3(3 * nb, &model->prescribed, 3 * nb, &model->value, 3 * nb, &model->load));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwModelSetUp(BwModel model, BwGeometry g, BwScene scene)
+{
+  PetscInt  ni = g->ninterfaces, n;
+  BwNameMap sets;
+  char    **names;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwModelAllocate(model, g));
+  model->head = model->bed;
+  for (PetscInt k = 0; k < ni; k++)
+    if (g->kind[k] == BW_JOINT_HEAD) {
+      PetscCall(BwJointLawSetFromOptions(&model->head, scene, "joints_head_", &model->bed));
+      break;
+    }
+  for (PetscInt k = 0; k < ni; k++) {
+    const BwJointLaw *law = g->kind[k] == BW_JOINT_HEAD ? &model->head : &model->bed;
     model->kn[k]          = g->kn ? g->kn[k] : law->kn;
     model->kt[k]          = g->kt ? g->kt[k] : law->kt;
   }
 
   /* Supports: supports.<set>.{u1,u2,w} = prescribed value. */
-  PetscOptionsBegin(g->comm, NULL, "Supports (scene key supports.<set>.{u1,u2,w}: prescribed value, 0 = fixed)", NULL);
-  for (PetscInt s = 0; s < g->nsets; s++) {
-    for (PetscInt c = 0; c < 3; c++) {
-      char      opt[256];
-      PetscReal v = 0;
-      PetscBool set;
+  PetscCall(BwSceneHelpSection(scene, "Supports (scene key supports.<set>.{u1,u2,w}: prescribed value [m or rad], 0 = fixed)"));
+  PetscCall(BwSceneRequireMapping(scene, "-supports", "block set: {u1: value, u2: value, w: value}"));
+  PetscCall(BwModelSetMap(g, &sets));
+  PetscCall(BwSceneListOptions(scene, "supports_", &n, &names));
+  for (PetscInt o = 0; o < n; o++) {
+    const char *const suffix[3] = {"_u1", "_u2", "_w"};
+    char              opt[PETSC_MAX_OPTION_NAME + 1];
+    PetscInt          s, c;
+    PetscReal         v = 0;
 
-      PetscCall(PetscSNPrintf(opt, sizeof(opt), "-supports_%s_%s", g->setname[s], BwDofNames[c]));
-      PetscCall(PetscOptionsReal(opt, "Prescribed dof of every block of the set [m or rad]", NULL, v, &v, &set));
-      if (!set) continue;
-      if (PetscIsInfOrNanReal(v)) PetscCall(BwSceneError(scene, opt, "must be a finite number, got %g", (double)v));
-      for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++) {
-        PetscInt b = g->setblocks[q];
-        if (model->prescribed[3 * b + c] && model->value[3 * b + c] != v)
-          PetscCall(BwSceneError(scene, opt, "prescribes %g on block %" PetscInt_FMT ", which another set already prescribes to %g", (double)v, b, (double)model->value[3 * b + c]));
-        model->prescribed[3 * b + c] = PETSC_TRUE;
-        model->value[3 * b + c]      = v;
-      }
+    BwModelParseSetKey(&sets, names[o], strlen("supports_"), 3, suffix, &s, &c);
+    if (s < 0) PetscCall(BwModelUnknownSet(model, scene, &sets, names[o], strlen("supports_"), PETSC_FALSE, "does not name a block set and a dof u1, u2 or w"));
+    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-supports_%s", g->setname[s]));
+    PetscCall(BwSceneRequireMapping(scene, opt, "u1, u2, w: prescribed values"));
+    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", names[o]));
+    PetscCall(BwSceneReal(scene, opt, "Prescribed dof of every block of the set [m or rad]", &v, NULL));
+    for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++) {
+      PetscInt b = g->setblocks[q];
+      if (model->prescribed[3 * b + c] && model->value[3 * b + c] != v)
+        PetscCall(BwSceneError(scene, opt, "prescribes %g on block %" PetscInt_FMT ", which another set already prescribes to %g", (double)v, b, (double)model->value[3 * b + c]));
+      model->prescribed[3 * b + c] = PETSC_TRUE;
+      model->value[3 * b + c]      = v;
     }
   }
-  PetscOptionsEnd();
-  {
-    const char *const suffix[3] = {"_u1", "_u2", "_w"};
-    PetscCall(BwModelCheckSetKeys(model, scene, "supports_", 3, suffix, "does not name a block set and a dof u1, u2 or w"));
-  }
+  PetscCall(PetscStrArrayDestroy(&names));
+  PetscCall(BwNameMapDestroy(&sets));
 
-  /* Loads: loads.<set> = [F1, F2, M3] on every block of the set. */
-  PetscOptionsBegin(g->comm, NULL, "Loads (scene key loads.<set>: [F1, F2, M3] at each block's centroid [N, N, N m])", NULL);
-  for (PetscInt s = 0; s < g->nsets; s++) {
-    char      opt[256];
-    PetscReal f[3] = {0, 0, 0};
-    PetscInt  n    = 3;
-    PetscBool set;
-
-    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-loads_%s", g->setname[s]));
-    PetscCall(PetscOptionsRealArray(opt, "F1,F2,M3 on every block of the set", NULL, f, &n, &set));
-    if (!set) continue;
-    if (n != 3) PetscCall(BwSceneError(scene, opt, "must have 3 values F1, F2, M3, got %" PetscInt_FMT, n));
-    for (PetscInt c = 0; c < 3; c++)
-      if (PetscIsInfOrNanReal(f[c])) PetscCall(BwSceneError(scene, opt, "must hold finite numbers, got %g", (double)f[c]));
-    for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++)
-      for (PetscInt c = 0; c < 3; c++) model->load[3 * g->setblocks[q] + c] += f[c];
-  }
-  PetscOptionsEnd();
-  {
-    const char *const suffix[1] = {""};
-    PetscCall(BwModelCheckSetKeys(model, scene, "loads_", 1, suffix, "does not name a block set"));
-  }
-  for (PetscInt b = 0; b < g->nblocks; b++) model->load[3 * b + 1] -= density * BW_GRAVITY * g->area[b] * g->depth;
+  PetscCall(BwSceneHelpSection(scene, "Loads (scene key loads.<set>: [F1, F2, M3] at each block's centroid [N, N, N m])"));
+  PetscCall(BwModelSetLoads(model, scene, ""));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -10,6 +10,7 @@
  * applied load; per interface the stiffness (kn, kt) in force. */
 #pragma once
 #include "geometry/geometry.h"
+#include "util/namemap.h"
 
 typedef enum { BW_LAW_MORTAR = 0, BW_LAW_DRY = 1 } BwJointLawType;
 
@@ -26,15 +27,29 @@ PetscErrorCode BwJointLawSetFromOptions(BwJointLaw *law, BwScene scene, const ch
 
 typedef struct _n_BwModel *BwModel;
 struct _n_BwModel {
+  MPI_Comm   comm;
   BwGeometry geom;
   PetscInt   m;
   PetscReal  gravity_density;
+  BwJointLaw bed, head;   /* joints.*, joints.head.* (running_bond's head joints) */
   PetscReal *kn, *kt;     /* per interface */
   PetscBool *prescribed;  /* 3 per block */
   PetscReal *value;       /* 3 per block: prescribed value (0 where free) */
   PetscReal *load;        /* 3 per block: F1, F2, M3 applied, self-weight included */
 };
 
-PetscErrorCode BwModelCreate(BwGeometry geom, BwModel *model);
-PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene, const BwJointLaw *bed, const BwJointLaw *head);
+PetscErrorCode BwModelCreate(MPI_Comm comm, BwModel *model);
+/* The keys that do not depend on the geometry: discretization.m,
+ * gravity.density, joints.* (whose thickness the generators need). */
+PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene);
+/* Given the geometry: per-interface stiffness (joints.head.* where there
+ * are head joints), supports and loads. */
+PetscErrorCode BwModelSetUp(BwModel model, BwGeometry geom, BwScene scene);
+/* The per-block and per-interface arrays for `geom`, zeroed (BwModelSetUp
+ * calls it; a program that builds a model by hand calls it itself). */
+PetscErrorCode BwModelAllocate(BwModel model, BwGeometry geom);
+/* The loads of keys <prefix>loads.<set> and the self-weight (density
+ * <prefix>gravity.density if given, else gravity.density), replacing the
+ * current ones: prefix "" for the scene's loads, "cases_NAME_" for a case. */
+PetscErrorCode BwModelSetLoads(BwModel model, BwScene scene, const char prefix[]);
 PetscErrorCode BwModelDestroy(BwModel *model);

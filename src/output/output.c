@@ -4,16 +4,14 @@
 #include <errno.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 #include <hdf5.h>
 #include "output/output.h"
 #include "output/xdmf.h"
+#include "output/h5file.h"
+#include "util/signals.h"
 #include "util/compat.h"
-
-#define BwH5Call(call) \
-  do { \
-    if ((call) < 0) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "HDF5 call failed: %s", #call); \
-  } while (0)
 
 PetscErrorCode BwOutputCreate(MPI_Comm comm, BwOutput *out)
 {
@@ -80,11 +78,11 @@ PetscErrorCode BwOutputSetFromOptions(BwOutput out, BwScene scene)
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  PetscOptionsBegin(out->comm, NULL, "Output (scene key output.*)", NULL);
-  PetscCall(PetscOptionsString("-output_file", "HDF5 result file (written to a temporary name, then renamed)", NULL, out->file, out->file, sizeof(out->file), NULL));
-  PetscCall(PetscOptionsBool("-output_stresses", "Write the per-portion stresses /interfaces/stress (resultants are always written)", NULL, out->stresses, &out->stresses, NULL));
-  PetscCall(PetscOptionsBool("-output_xdmf", "Write an XDMF file beside the HDF5 file for ParaView", NULL, out->xdmf, &out->xdmf, NULL));
-  PetscOptionsEnd();
+  PetscCall(BwSceneHelpSection(scene, "Output (scene key output.*)"));
+  PetscCall(BwSceneRequireMapping(scene, "-output", "file, stresses, xdmf"));
+  PetscCall(BwSceneString(scene, "-output_file", "HDF5 result file (written to a temporary name, then renamed)", out->file, sizeof(out->file), NULL));
+  PetscCall(BwSceneBool(scene, "-output_stresses", "Write the per-portion stresses /interfaces/stress (resultants are always written)", &out->stresses, NULL));
+  PetscCall(BwSceneBool(scene, "-output_xdmf", "Write an XDMF file beside the HDF5 file for ParaView", &out->xdmf, NULL));
   if (!out->file[0]) PetscCall(BwSceneError(scene, "-output_file", "must name a file"));
   /* Fail before the solve, not after it, when the result cannot be written. */
   PetscCallMPI(MPI_Comm_rank(out->comm, &rank));
@@ -102,131 +100,11 @@ PetscErrorCode BwOutputSetFromOptions(BwOutput out, BwScene scene)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-typedef struct {
-  hid_t file, dxpl;
-} BwH5;
-
-static PetscErrorCode BwH5Group(BwH5 *h, const char name[])
-{
-  hid_t g;
-
-  PetscFunctionBeginUser;
-  g = H5Gcreate2(h->file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  BwH5Call(g);
-  BwH5Call(H5Gclose(g));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Dataset `name` of shape (n, w1[, w2]) and type `mem`; this rank writes the
- * rows rows[0..nrows) (sorted, each `width` values) from `data`. */
-static PetscErrorCode BwH5Write(BwH5 *h, const char name[], hid_t type, int rank, const hsize_t dims[], PetscInt nrows, const PetscInt rows[], const void *data)
-{
-  hid_t   fspace, mspace, dset;
-  hsize_t width = 1, count = 0;
-
-  PetscFunctionBeginUser;
-  for (int d = 1; d < rank; d++) width *= dims[d];
-  fspace = H5Screate_simple(rank, dims, NULL);
-  BwH5Call(fspace);
-  dset = H5Dcreate2(h->file, name, type, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  BwH5Call(dset);
-  BwH5Call(H5Sselect_none(fspace));
-  for (PetscInt r = 0; r < nrows;) {
-    PetscInt run = 1;
-    hsize_t  start[3] = {0, 0, 0}, cnt[3];
-    while (r + run < nrows && rows[r + run] == rows[r] + run) run++;
-    start[0] = (hsize_t)rows[r];
-    cnt[0]   = (hsize_t)run;
-    for (int d = 1; d < rank; d++) cnt[d] = dims[d];
-    BwH5Call(H5Sselect_hyperslab(fspace, H5S_SELECT_OR, start, NULL, cnt, NULL));
-    count += (hsize_t)run * width;
-    r += run;
-  }
-  mspace = H5Screate_simple(1, &count, NULL);
-  BwH5Call(mspace);
-  if (!count) BwH5Call(H5Sselect_none(mspace));
-  BwH5Call(H5Dwrite(dset, type, mspace, fspace, h->dxpl, data));
-  BwH5Call(H5Sclose(mspace));
-  BwH5Call(H5Sclose(fspace));
-  BwH5Call(H5Dclose(dset));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Replicated data: rank 0 writes all n rows. */
-static PetscErrorCode BwH5WriteAll(BwH5 *h, const char name[], hid_t type, int rank, const hsize_t dims[], const void *data)
-{
-  PetscMPIInt r;
-  PetscInt    first = 0;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(MPI_COMM_WORLD, &r));
-  if (r == 0 && dims[0] > 0) {
-    /* one run covering all rows */
-    hid_t   fspace, dset;
-    fspace = H5Screate_simple(rank, dims, NULL);
-    BwH5Call(fspace);
-    dset = H5Dcreate2(h->file, name, type, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    BwH5Call(dset);
-    BwH5Call(H5Dwrite(dset, type, H5S_ALL, H5S_ALL, h->dxpl, data));
-    BwH5Call(H5Sclose(fspace));
-    BwH5Call(H5Dclose(dset));
-  } else PetscCall(BwH5Write(h, name, type, rank, dims, 0, &first, data));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode BwH5AttrDouble(hid_t obj, const char name[], double v)
-{
-  hid_t sp, a;
-
-  PetscFunctionBeginUser;
-  sp = H5Screate(H5S_SCALAR);
-  a  = H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT);
-  BwH5Call(a);
-  BwH5Call(H5Awrite(a, H5T_NATIVE_DOUBLE, &v));
-  BwH5Call(H5Aclose(a));
-  BwH5Call(H5Sclose(sp));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode BwH5AttrInt(hid_t obj, const char name[], long long v)
-{
-  hid_t sp, a;
-
-  PetscFunctionBeginUser;
-  sp = H5Screate(H5S_SCALAR);
-  a  = H5Acreate2(obj, name, H5T_NATIVE_LLONG, sp, H5P_DEFAULT, H5P_DEFAULT);
-  BwH5Call(a);
-  BwH5Call(H5Awrite(a, H5T_NATIVE_LLONG, &v));
-  BwH5Call(H5Aclose(a));
-  BwH5Call(H5Sclose(sp));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode BwH5AttrString(hid_t obj, const char name[], const char v[])
-{
-  hid_t sp, t, a;
-
-  PetscFunctionBeginUser;
-  sp = H5Screate(H5S_SCALAR);
-  t  = H5Tcopy(H5T_C_S1);
-  BwH5Call(H5Tset_size(t, strlen(v) + 1));
-  BwH5Call(H5Tset_cset(t, H5T_CSET_UTF8));
-  a = H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
-  BwH5Call(a);
-  BwH5Call(H5Awrite(a, t, v));
-  BwH5Call(H5Aclose(a));
-  BwH5Call(H5Tclose(t));
-  BwH5Call(H5Sclose(sp));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwLog *log)
+static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwLog *log)
 {
   BwGeometry     geom = mx->geom;
   BwModel        model = mx->model;
   PetscInt       nb = geom->nblocks, ni = geom->ninterfaces, m = mx->m;
-  hid_t          fapl, root, grp;
-  BwH5           h;
   hsize_t        dims[3];
   int64_t       *i64;
   signed char   *i8;
@@ -235,46 +113,39 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed 
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(out->comm, &size));
-  fapl = H5Pcreate(H5P_FILE_ACCESS);
-  BwH5Call(H5Pset_fapl_mpio(fapl, out->comm, MPI_INFO_NULL));
-  h.file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-  BwH5Call(H5Pclose(fapl));
-  PetscCheck(h.file >= 0, out->comm, PETSC_ERR_FILE_OPEN, "output.file: cannot create '%s'", tmp);
-  h.dxpl = H5Pcreate(H5P_DATASET_XFER);
-  BwH5Call(H5Pset_dxpl_mpio(h.dxpl, H5FD_MPIO_COLLECTIVE));
 
-  PetscCall(BwH5Group(&h, "/blocks"));
-  PetscCall(BwH5Group(&h, "/interfaces"));
-  PetscCall(BwH5Group(&h, "/sets"));
-  PetscCall(BwH5Group(&h, "/solver"));
+  PetscCall(BwH5FileGroup(h, "/blocks"));
+  PetscCall(BwH5FileGroup(h, "/interfaces"));
+  PetscCall(BwH5FileGroup(h, "/sets"));
+  PetscCall(BwH5FileGroup(h, "/solver"));
 
   /* input schema, replicated */
   dims[0] = (hsize_t)geom->offsets[nb];
   dims[1] = 2;
-  PetscCall(BwH5WriteAll(&h, "/blocks/vertices", H5T_NATIVE_DOUBLE, 2, dims, geom->vertices));
+  PetscCall(BwH5FileWriteAll(h, "/blocks/vertices", H5T_NATIVE_DOUBLE, 2, dims, geom->vertices));
   PetscCall(PetscMalloc1(PetscMax(nb + 1, 2 * ni) + 1, &i64));
   for (PetscInt b = 0; b <= nb; b++) i64[b] = geom->offsets[b];
   dims[0] = (hsize_t)nb + 1;
-  PetscCall(BwH5WriteAll(&h, "/blocks/offsets", H5T_NATIVE_INT64, 1, dims, i64));
+  PetscCall(BwH5FileWriteAll(h, "/blocks/offsets", H5T_NATIVE_INT64, 1, dims, i64));
   for (PetscInt e = 0; e < 2 * ni; e++) i64[e] = geom->pair[e];
   dims[0] = (hsize_t)ni;
-  PetscCall(BwH5WriteAll(&h, "/interfaces/blocks", H5T_NATIVE_INT64, 2, dims, i64));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/blocks", H5T_NATIVE_INT64, 2, dims, i64));
   PetscCall(PetscFree(i64));
   dims[0] = (hsize_t)nb;
-  PetscCall(BwH5WriteAll(&h, "/blocks/centroid", H5T_NATIVE_DOUBLE, 2, dims, geom->centroid));
+  PetscCall(BwH5FileWriteAll(h, "/blocks/centroid", H5T_NATIVE_DOUBLE, 2, dims, geom->centroid));
   dims[1] = 3;
-  PetscCall(BwH5WriteAll(&h, "/blocks/load", H5T_NATIVE_DOUBLE, 2, dims, model->load));
+  PetscCall(BwH5FileWriteAll(h, "/blocks/load", H5T_NATIVE_DOUBLE, 2, dims, model->load));
   PetscCall(PetscMalloc1(3 * nb + 1, &i8));
   for (PetscInt e = 0; e < 3 * nb; e++) i8[e] = model->prescribed[e] ? 1 : 0;
-  PetscCall(BwH5WriteAll(&h, "/blocks/prescribed", H5T_NATIVE_SCHAR, 2, dims, i8));
+  PetscCall(BwH5FileWriteAll(h, "/blocks/prescribed", H5T_NATIVE_SCHAR, 2, dims, i8));
   PetscCall(PetscFree(i8));
   dims[0] = (hsize_t)ni;
   dims[1] = 2;
-  PetscCall(BwH5WriteAll(&h, "/interfaces/center", H5T_NATIVE_DOUBLE, 2, dims, geom->center));
-  PetscCall(BwH5WriteAll(&h, "/interfaces/angle", H5T_NATIVE_DOUBLE, 1, dims, geom->angle));
-  PetscCall(BwH5WriteAll(&h, "/interfaces/length", H5T_NATIVE_DOUBLE, 1, dims, geom->length));
-  PetscCall(BwH5WriteAll(&h, "/interfaces/kn", H5T_NATIVE_DOUBLE, 1, dims, model->kn));
-  PetscCall(BwH5WriteAll(&h, "/interfaces/kt", H5T_NATIVE_DOUBLE, 1, dims, model->kt));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/center", H5T_NATIVE_DOUBLE, 2, dims, geom->center));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/angle", H5T_NATIVE_DOUBLE, 1, dims, geom->angle));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/length", H5T_NATIVE_DOUBLE, 1, dims, geom->length));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/kn", H5T_NATIVE_DOUBLE, 1, dims, model->kn));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/kt", H5T_NATIVE_DOUBLE, 1, dims, model->kt));
   for (PetscInt s = 0; s < geom->nsets; s++) {
     char     name[PETSC_MAX_PATH_LEN];
     PetscInt n = geom->setoffsets[s + 1] - geom->setoffsets[s];
@@ -282,157 +153,213 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, const char tmp[], BwMixed 
     for (PetscInt e = 0; e < n; e++) i64[e] = geom->setblocks[geom->setoffsets[s] + e];
     PetscCall(PetscSNPrintf(name, sizeof(name), "/sets/%s", geom->setname[s]));
     dims[0] = (hsize_t)n;
-    PetscCall(BwH5WriteAll(&h, name, H5T_NATIVE_INT64, 1, dims, i64));
+    PetscCall(BwH5FileWriteAll(h, name, H5T_NATIVE_INT64, 1, dims, i64));
     PetscCall(PetscFree(i64));
   }
 
   /* results, distributed at their input indices */
   dims[0] = (hsize_t)nb;
   dims[1] = 3;
-  PetscCall(BwH5Write(&h, "/blocks/displacement", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_blocks, mx->own_blocks, res->displacement));
-  PetscCall(BwH5Write(&h, "/blocks/reaction", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_blocks, mx->own_blocks, res->reaction));
+  PetscCall(BwH5FileWrite(h, "/blocks/displacement", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_blocks, mx->own_blocks, res->displacement));
+  PetscCall(BwH5FileWrite(h, "/blocks/reaction", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_blocks, mx->own_blocks, res->reaction));
   dims[0] = (hsize_t)ni;
-  PetscCall(BwH5Write(&h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_interfaces, mx->own_interfaces, res->relative));
-  PetscCall(BwH5Write(&h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_interfaces, mx->own_interfaces, res->resultant));
+  PetscCall(BwH5FileWrite(h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_interfaces, mx->own_interfaces, res->relative));
+  PetscCall(BwH5FileWrite(h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_interfaces, mx->own_interfaces, res->resultant));
   if (out->stresses) {
     dims[1] = (hsize_t)m;
     dims[2] = 2;
-    PetscCall(BwH5Write(&h, "/interfaces/stress", H5T_NATIVE_DOUBLE, 3, dims, mx->nown_interfaces, mx->own_interfaces, res->stress));
+    PetscCall(BwH5FileWrite(h, "/interfaces/stress", H5T_NATIVE_DOUBLE, 3, dims, mx->nown_interfaces, mx->own_interfaces, res->stress));
   }
   if (out->xdmf) { /* what the .xdmf beside this file needs and the schema lacks (xdmf.h) */
     BwXdmfData x;
     PetscCall(BwXdmfDataCreate(geom, mx->nown_blocks, mx->own_blocks, res->displacement, &x));
-    PetscCall(BwH5Group(&h, "/xdmf"));
+    PetscCall(BwH5FileGroup(h, "/xdmf"));
     dims[0] = (hsize_t)x.ntopology;
-    PetscCall(BwH5WriteAll(&h, "/xdmf/topology", H5T_NATIVE_INT64, 1, dims, x.topology));
+    PetscCall(BwH5FileWriteAll(h, "/xdmf/topology", H5T_NATIVE_INT64, 1, dims, x.topology));
     dims[0] = 2 * (hsize_t)ni;
     dims[1] = 2;
-    PetscCall(BwH5WriteAll(&h, "/xdmf/interface_points", H5T_NATIVE_DOUBLE, 2, dims, x.interface_points));
+    PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_points", H5T_NATIVE_DOUBLE, 2, dims, x.interface_points));
     dims[0] = (hsize_t)ni;
-    PetscCall(BwH5WriteAll(&h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 2, dims, x.interface_topology));
+    PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 2, dims, x.interface_topology));
     dims[0] = (hsize_t)geom->offsets[nb];
     dims[1] = 3;
-    PetscCall(BwH5Write(&h, "/xdmf/vertex_displacement", H5T_NATIVE_DOUBLE, 2, dims, x.nvertex_rows, x.vertex_rows, x.vertex_displacement));
+    PetscCall(BwH5FileWrite(h, "/xdmf/vertex_displacement", H5T_NATIVE_DOUBLE, 2, dims, x.nvertex_rows, x.vertex_rows, x.vertex_displacement));
     PetscCall(BwXdmfDataDestroy(&x));
   }
 
   /* attributes */
-  root = H5Gopen2(h.file, "/", H5P_DEFAULT);
-  BwH5Call(root);
-  PetscCall(BwH5AttrString(root, "version", BW_VERSION));
-  PetscCall(BwH5AttrString(root, "scene", scene_text));
-  PetscCall(BwH5AttrString(root, "units", "SI"));
-  PetscCall(BwH5AttrInt(root, "m", m));
-  PetscCall(BwH5AttrDouble(root, "depth", geom->depth));
-  BwH5Call(H5Gclose(root));
-  grp = H5Gopen2(h.file, "/solver", H5P_DEFAULT);
-  BwH5Call(grp);
-  PetscCall(BwH5AttrString(grp, "method_requested", BwMethods[s->requested]));
-  PetscCall(BwH5AttrString(grp, "method_used", BwMethods[s->used]));
-  PetscCall(BwH5AttrInt(grp, "fallback", s->fallback));
-  PetscCall(BwH5AttrString(grp, "fallback_reason", s->fallback_reason));
-  PetscCall(BwH5AttrInt(grp, "iterations", s->iterations));
-  PetscCall(BwH5AttrInt(grp, "accuracy_met", s->accuracy_met));
-  PetscCall(BwH5AttrString(grp, "warning", s->warning));
-  PetscCall(BwH5AttrDouble(grp, "rtol", s->rtol));
-  PetscCall(BwH5AttrDouble(grp, "residual", s->check.residual));
-  PetscCall(BwH5AttrDouble(grp, "residual_equilibrium", s->check.equilibrium));
-  PetscCall(BwH5AttrDouble(grp, "residual_compatibility", s->check.compatibility));
-  PetscCall(BwH5AttrDouble(grp, "forward_rtol", s->forward_rtol));
-  PetscCall(BwH5AttrDouble(grp, "forward_error_estimate", s->forward_estimate));
-  PetscCall(BwH5AttrDouble(grp, "condition_estimate", s->condition_estimate));
-  PetscCall(BwH5AttrDouble(grp, "equilibrium_error", s->check.equilibrium_error));
-  PetscCall(BwH5AttrInt(grp, "ranks", size));
-  PetscCall(BwH5AttrInt(grp, "unknowns_q", mx->nq_global));
-  PetscCall(BwH5AttrInt(grp, "unknowns_r", mx->nr_global));
+  PetscCall(BwH5FileAttrString(h, "/", "version", BW_VERSION));
+  PetscCall(BwH5FileAttrString(h, "/", "scene", scene_text));
+  PetscCall(BwH5FileAttrString(h, "/", "units", "SI"));
+  PetscCall(BwH5FileAttrInt(h, "/", "m", m));
+  PetscCall(BwH5FileAttrDouble(h, "/", "depth", geom->depth));
+  PetscCall(BwH5FileAttrString(h, "/solver", "method_requested", BwMethods[s->requested]));
+  PetscCall(BwH5FileAttrString(h, "/solver", "method_used", BwMethods[s->used]));
+  PetscCall(BwH5FileAttrInt(h, "/solver", "fallback", s->fallback));
+  PetscCall(BwH5FileAttrString(h, "/solver", "fallback_reason", s->fallback_reason));
+  PetscCall(BwH5FileAttrInt(h, "/solver", "iterations", s->iterations));
+  PetscCall(BwH5FileAttrInt(h, "/solver", "accuracy_met", s->accuracy_met));
+  PetscCall(BwH5FileAttrString(h, "/solver", "warning", s->warning));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "rtol", s->rtol));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "residual", s->check.residual));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "residual_equilibrium", s->check.equilibrium));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "residual_compatibility", s->check.compatibility));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "forward_rtol", s->forward_rtol));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "forward_error_estimate", s->forward_estimate));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "condition_estimate", s->condition_estimate));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "equilibrium_error", s->check.equilibrium_error));
+  PetscCall(BwH5FileAttrInt(h, "/solver", "ranks", size));
+  PetscCall(BwH5FileAttrInt(h, "/solver", "unknowns_q", mx->nq_global));
+  PetscCall(BwH5FileAttrInt(h, "/solver", "unknowns_r", mx->nr_global));
   {
     char blas[PETSC_MAX_PATH_LEN];
     PetscCall(BwBlasName(blas, sizeof(blas)));
-    PetscCall(BwH5AttrString(grp, "blas", blas));
+    PetscCall(BwH5FileAttrString(h, "/solver", "blas", blas));
   }
   {
     PetscLogDouble cur, peak;
     PetscCall(BwMemoryUsage(out->comm, &cur, &peak));
-    PetscCall(BwH5AttrDouble(grp, "memory_peak_bytes", peak));
+    PetscCall(BwH5FileAttrDouble(h, "/solver", "memory_peak_bytes", peak));
   }
   PetscCall(PetscTime(&t1));
   for (int p = 0; p < BW_NPHASES; p++) {
     char name[64];
     PetscCall(PetscSNPrintf(name, sizeof(name), "seconds_%s", BwPhaseNames[p]));
-    PetscCall(BwH5AttrDouble(grp, name, log->seconds[p] + (p == BW_PHASE_WRITE ? t1 - log->start : 0)));
+    PetscCall(BwH5FileAttrDouble(h, "/solver", name, log->seconds[p] + (p == BW_PHASE_WRITE ? t1 - log->start : 0)));
   }
-  PetscCall(BwH5AttrDouble(grp, "seconds_total", t1 - log->t0));
-  BwH5Call(H5Gclose(grp));
-  BwH5Call(H5Pclose(h.dxpl));
-  BwH5Call(H5Fclose(h.file));
+  PetscCall(BwH5FileAttrDouble(h, "/solver", "seconds_total", t1 - log->t0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwMakeDirs(const char dir[])
+/* The directories of `dir` that do not exist are created, outermost first;
+ * *first is the outermost one created (empty if none), for BwRemoveDirs. */
+static PetscErrorCode BwMakeDirs(const char dir[], char first[], size_t len)
 {
   char path[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
+  first[0] = 0;
   PetscCall(PetscStrncpy(path, dir, sizeof(path)));
-  for (char *p = path + 1; *p; p++) {
-    if (*p != '/') continue;
+  for (char *p = path + 1;; p++) {
+    char c = *p;
+    if (c && c != '/') continue;
     *p = 0;
-    PetscCheck(mkdir(path, 0777) == 0 || errno == EEXIST, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "output.file: cannot create directory '%s': %s", path, strerror(errno));
-    *p = '/';
+    if (mkdir(path, 0777) == 0) {
+      if (!first[0]) PetscCall(PetscStrncpy(first, path, len));
+    } else PetscCheck(errno == EEXIST, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "output.file: cannot create directory '%s': %s", path, strerror(errno));
+    *p = c;
+    if (!c) break;
   }
-  PetscCheck(mkdir(path, 0777) == 0 || errno == EEXIST, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "output.file: cannot create directory '%s': %s", path, strerror(errno));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Removes what BwMakeDirs created: dir and its parents up to first. */
+static void BwRemoveDirs(const char dir[], const char first[])
+{
+  char path[PETSC_MAX_PATH_LEN];
+
+  if (!first[0]) return;
+  snprintf(path, sizeof(path), "%s", dir);
+  for (;;) {
+    char *slash;
+    if (rmdir(path) != 0 || !strcmp(path, first)) return;
+    slash = strrchr(path, '/');
+    if (!slash || slash == path) return;
+    *slash = 0;
+  }
+}
+
+/* An upper estimate of the result file's size: every dataset, the scene
+ * text, and HDF5's headers (a few hundred bytes per object, a margin for
+ * its metadata blocks). */
+static PetscLogDouble BwOutputBytes(BwOutput out, BwMixed mx, const char scene_text[])
+{
+  BwGeometry     g  = mx->geom;
+  PetscLogDouble nb = g->nblocks, ni = g->ninterfaces, nv = g->offsets[g->nblocks], bytes;
+
+  bytes = nv * 16 + (nb + 1) * 8 + nb * (16 + 24 + 3 + 24 + 24) + ni * (16 + 16 + 8 + 8 + 8 + 8 + 24 + 24);
+  if (out->stresses) bytes += ni * mx->m * 16;
+  bytes += g->setoffsets[g->nsets] * 8.0 + g->nsets * 1024.0;
+  if (out->xdmf) bytes += (nv + 2 * nb) * 8 + ni * (32 + 16) + nv * 24;
+  bytes += 2.0 * strlen(scene_text) + 65536 + 64 * 1024.0;
+  return 1.05 * bytes;
 }
 
 PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwLog *log)
 {
-  char           tmp[PETSC_MAX_PATH_LEN + 32], dir[PETSC_MAX_PATH_LEN], msg[3 * PETSC_MAX_PATH_LEN] = "";
+  char           tmp[PETSC_MAX_PATH_LEN + 32], dir[PETSC_MAX_PATH_LEN], created[PETSC_MAX_PATH_LEN] = "", msg[3 * PETSC_MAX_PATH_LEN] = "";
   char           xdmf[PETSC_MAX_PATH_LEN + 8], xtmp[PETSC_MAX_PATH_LEN + 40];
   PetscMPIInt    rank;
   int            pid = (int)getpid(), ok = 1;
-  PetscErrorCode ierr;
+  PetscErrorCode ierr, cerr;
+  BwH5File       h = NULL;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(out->comm, &rank));
   PetscCallMPI(MPI_Bcast(&pid, 1, MPI_INT, 0, out->comm));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp-%d", out->file, pid));
+  PetscCall(BwXdmfPath(out->file, xdmf, sizeof(xdmf)));
+  PetscCall(PetscSNPrintf(xtmp, sizeof(xtmp), "%s.tmp-%d", xdmf, pid));
+  BwDirName(out->file, dir, sizeof(dir));
   if (rank == 0) {
-    BwDirName(out->file, dir, sizeof(dir));
-    if (BwMakeDirs(dir)) {
+    struct statvfs fs;
+    PetscLogDouble need = BwOutputBytes(out, mx, scene_text);
+    if (BwMakeDirs(dir, created, sizeof(created))) {
       ok = 0;
-      snprintf(msg, sizeof(msg), "output.file: cannot create directory '%s'", dir);
+      snprintf(msg, sizeof(msg), "output.file: cannot create directory '%s': %s", dir, strerror(errno));
+    } else if (statvfs(dir, &fs) == 0 && (PetscLogDouble)fs.f_bavail * (PetscLogDouble)fs.f_frsize < need) {
+      /* refused before a byte is written: a full disk met halfway ends in
+       * a half-written file, which the temporary name only hides */
+      ok = 0;
+      snprintf(msg, sizeof(msg), "output.file: '%s' needs about %.3g MB and its file system has %.3g MB free; nothing was written", out->file, need / 1048576.0, (double)fs.f_bavail * (double)fs.f_frsize / 1048576.0);
+      BwRemoveDirs(dir, created);
     }
+    if (ok) PetscCall(BwTemporaryAdd(tmp));
+    if (ok && out->xdmf) PetscCall(BwTemporaryAdd(xtmp));
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, out->comm));
+  if (!ok) PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, 0, out->comm));
   PetscCheck(ok, out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
-  ierr = BwOutputWriteFile(out, tmp, mx, res, s, scene_text, log);
-  if (ierr) {
-    if (rank == 0) unlink(tmp);
-    SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "output.file: writing '%s' failed; nothing was written", out->file);
+
+  /* every rank takes the same path through the file, failed or not */
+  ierr = BwH5FileCreate(out->comm, tmp, &h);
+  if (!ierr) ierr = BwOutputWriteFile(out, h, mx, res, s, scene_text, log);
+  cerr = BwH5FileClose(&h);
+  if (ierr || cerr) {
+    char *text = NULL;
+    PetscErrorMessage(cerr ? cerr : ierr, NULL, &text);
+    if (rank == 0) {
+      unlink(tmp);
+      BwTemporaryRemove(tmp);
+      BwTemporaryRemove(xtmp);
+      BwRemoveDirs(dir, created);
+    }
+    SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "output.file: writing '%s' failed (%s); nothing was written", out->file, text && text[0] ? text : "HDF5 error");
   }
-  PetscCallMPI(MPI_Barrier(out->comm));
-  /* The .xdmf is written and renamed before the result file, so a failure
-   * leaves neither file behind and an existing result file untouched. */
-  if (out->xdmf) {
-    PetscCall(BwXdmfPath(out->file, xdmf, sizeof(xdmf)));
-    PetscCall(PetscSNPrintf(xtmp, sizeof(xtmp), "%s.tmp-%d", xdmf, pid));
+  /* rank 0 publishes: the .xdmf, then both files renamed with signals
+   * blocked, so that a reader finds the old pair or the new one */
+  if (rank == 0) {
+    const char *from[2] = {xtmp, tmp}, *to[2] = {xdmf, out->file};
+    int         n = out->xdmf ? 2 : 1, failed;
     errno = 0;
-    if (rank == 0 && (BwXdmfWrite(out->file, xtmp, mx->geom) || rename(xtmp, xdmf) != 0)) {
+    if (out->xdmf && BwXdmfWrite(out->file, xtmp, mx->geom)) {
       ok = 0;
       snprintf(msg, sizeof(msg), "output.xdmf: cannot write '%s'%s%s; nothing was written", xdmf, errno ? ": " : "", errno ? strerror(errno) : "");
+    } else if (BwRenameAll(n, out->xdmf ? from : from + 1, out->xdmf ? to : to + 1, &failed)) {
+      ok = 0;
+      snprintf(msg, sizeof(msg), "output.file: cannot rename '%s' to '%s': %s; nothing was written", (out->xdmf ? from : from + 1)[failed], (out->xdmf ? to : to + 1)[failed], strerror(errno));
+      if (out->xdmf && failed == 1) unlink(xdmf); /* it describes a file that was not published */
+    }
+    if (!ok) {
       unlink(xtmp);
       unlink(tmp);
+      BwRemoveDirs(dir, created);
     }
-    PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, out->comm));
-    PetscCheck(ok, out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
-  }
-  if (rank == 0 && rename(tmp, out->file) != 0) {
-    ok = 0;
-    snprintf(msg, sizeof(msg), "output.file: cannot rename '%s' to '%s': %s", tmp, out->file, strerror(errno));
-    unlink(tmp);
-    if (out->xdmf) unlink(xdmf);
+    BwTemporaryRemove(tmp);
+    BwTemporaryRemove(xtmp);
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, out->comm));
+  if (!ok) PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, 0, out->comm));
   PetscCheck(ok, out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -56,36 +56,44 @@ static PetscErrorCode BwSolverDefault(BwSolver s, const char name[], const char 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene, PetscInt nblocks)
+PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
 {
   PetscInt                 method = s->requested, schur = 0, storage = s->storage;
   PetscBool                fset;
   static const char *const schurs[] = {"auto", "cholesky", "gamg", "BwSchur", "BW_SCHUR_", NULL};
 
   PetscFunctionBeginUser;
-  PetscOptionsBegin(s->comm, NULL, "Solver (scene key solver.*)", NULL);
-  PetscCall(PetscOptionsEList("-solver_method", "auto (fieldsplit, MUMPS on failure), fieldsplit, direct, or condensed (benchmark reference)", NULL, BwMethods, 4, BwMethods[method], &method, NULL));
-  PetscCall(PetscOptionsReal("-solver_rtol", "Required relative true residual of the full mixed system (scaled)", NULL, s->rtol, &s->rtol, NULL));
-  PetscCall(PetscOptionsEList("-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 2e5 blocks, gamg above), cholesky (MUMPS) or gamg (CG+GAMG)", NULL, schurs, 3, schurs[schur], &schur, NULL));
-  PetscCall(PetscOptionsReal("-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", NULL, s->forward_rtol, &s->forward_rtol, &fset));
+  PetscCall(BwSceneHelpSection(scene, "Solver (scene key solver.*)"));
+  PetscCall(BwSceneRequireMapping(scene, "-solver", "method, rtol, ..."));
+  PetscCall(BwSceneEnum(scene, "-solver_method", "auto (fieldsplit, MUMPS on failure), fieldsplit, direct, or condensed (benchmark reference)", 4, BwMethods, &method, NULL));
+  PetscCall(BwSceneReal(scene, "-solver_rtol", "Required relative true residual of the full mixed system (scaled)", &s->rtol, NULL));
+  PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 2e5 blocks, gamg above), cholesky (MUMPS) or gamg (CG+GAMG)", 3, schurs, &schur, NULL));
+  PetscCall(BwSceneReal(scene, "-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", &s->forward_rtol, &fset));
   {
-    static const char *const when[] = {"auto", "always", "never", "BwConditionEstimate", "BW_CONDITION_", NULL};
+    static const char *const when[] = {"auto", "always", "never"};
     PetscInt                 w      = s->condition_when;
-    PetscCall(PetscOptionsEList("-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance), always, never", NULL, when, 3, when[w], &w, NULL));
+    PetscCall(BwSceneEnum(scene, "-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance), always, never", 3, when, &w, NULL));
     s->condition_when = w;
   }
-  PetscCall(PetscOptionsEList("-solver_storage", "Saddle operator storage: shell (D^ by its structure), nest (D^ assembled) or aij (one assembled matrix)", NULL, BwStorages, 3, BwStorages[storage], &storage, NULL));
-  PetscOptionsEnd();
+  PetscCall(BwSceneEnum(scene, "-solver_storage", "Saddle operator storage: shell (D^ by its structure), nest (D^ assembled) or aij (one assembled matrix)", 3, BwStorages, &storage, NULL));
   s->storage = (BwStorage)storage;
   if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
   if (!fset) s->forward_rtol = s->rtol;
   if (!(s->forward_rtol > 0 && s->forward_rtol <= 1)) PetscCall(BwSceneError(scene, "-solver_forward_rtol", "must be in (0, 1], got %g", (double)s->forward_rtol));
-  s->requested  = (BwMethod)method;
+  s->requested     = (BwMethod)method;
+  s->schur_choice  = schur;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The defaults that depend on the assembly's size, once it is known. */
+PetscErrorCode BwSolverSetSize(BwSolver s, PetscInt nblocks)
+{
+  PetscFunctionBeginUser;
   /* By size: MUMPS Cholesky of S^ is exact and robust to stiffness
    * contrast, and as fast as CG + GAMG up to ~1e5 blocks (4.5 s vs 4.1 s at
    * 1e5); above, its fill grows faster than N (19 s vs 12 s at 2.5e5, and
    * 13.5 KB vs 17.5 KB per block), while CG + GAMG stays near linear. */
-  s->schur_gamg = schur == 2 || (schur == 0 && nblocks >= BW_SCHUR_GAMG_BLOCKS) ? PETSC_TRUE : PETSC_FALSE;
+  s->schur_gamg = s->schur_choice == 2 || (s->schur_choice == 0 && nblocks >= BW_SCHUR_GAMG_BLOCKS) ? PETSC_TRUE : PETSC_FALSE;
 
   /* Sub-solvers that PCFIELDSPLIT creates take their defaults from the
    * database; the direct path's MUMPS gets a larger work-space margin,
@@ -725,6 +733,16 @@ PetscErrorCode BwSolverSolve(BwSolver s, BwMixed mx, BwLog *log)
   PetscCall(KSPDestroy(&s->fieldsplit));
   PetscCall(KSPDestroy(&s->direct));
   PetscCall(KSPDestroy(&s->condensed));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverGetOptionPrefixes(PetscInt *n, const char *const **prefixes)
+{
+  static const char *const all[] = {"ksp_", "pc_", "mat_", "fieldsplit_", "direct_", "condensed_", "cholesky_", "mechanism_", "schur_", "mixed_"};
+
+  PetscFunctionBeginUser;
+  *n        = (PetscInt)PETSC_STATIC_ARRAY_LENGTH(all);
+  *prefixes = all;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -34,6 +34,7 @@ struct _n_BwSolver {
   MPI_Comm  comm;
   BwMethod  requested;
   PetscReal rtol;
+  PetscInt  schur_choice; /* solver.schur: 0 auto, 1 cholesky, 2 gamg */
   PetscBool schur_gamg;
   BwStorage storage; /* solver.storage */
   KSP       fieldsplit, cholesky, direct, condensed; /* destroyed when the solve is done */
@@ -66,11 +67,15 @@ struct _n_BwSolver {
 };
 
 PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver);
-/* nblocks picks the default Schur solve (solver.schur: auto). */
-PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene, PetscInt nblocks);
+PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene);
+/* The assembly's size picks the default Schur solve (solver.schur: auto). */
+PetscErrorCode BwSolverSetSize(BwSolver solver, PetscInt nblocks);
 /* Solves into mixed->x and fills the outcome and the residual check. */
 PetscErrorCode BwSolverSolve(BwSolver solver, BwMixed mixed, BwLog *log);
 /* Option prefixes of paths that did not run (their options are legitimately
  * unused), for BwSceneCheckUnused. */
+/* Option prefixes of the solvers' PETSc objects, some of whose options
+ * PETSc reads only when the solver is set up: checked after the solve. */
+PetscErrorCode BwSolverGetOptionPrefixes(PetscInt *n, const char *const **prefixes);
 PetscErrorCode BwSolverGetIdlePrefixes(BwSolver solver, PetscInt *n, const char *prefixes[6]);
 PetscErrorCode BwSolverDestroy(BwSolver *solver);

@@ -1,6 +1,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <unistd.h>
 #include "util/log.h"
 #include "util/compat.h"
 
@@ -76,6 +77,44 @@ PetscErrorCode BwMemoryUsage(MPI_Comm comm, PetscLogDouble *current, PetscLogDou
   PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPI_DOUBLE, MPI_SUM, comm));
   *current = glob[0];
   *peak    = glob[1];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMemoryAvailable(PetscLogDouble *bytes)
+{
+  FILE *f = fopen("/proc/meminfo", "r");
+  char  line[256];
+
+  PetscFunctionBeginUser;
+  *bytes = (PetscLogDouble)sysconf(_SC_PHYS_PAGES) * (PetscLogDouble)sysconf(_SC_PAGESIZE);
+  if (!f) PetscFunctionReturn(PETSC_SUCCESS);
+  while (fgets(line, sizeof(line), f)) {
+    long long kb;
+    if (sscanf(line, "MemAvailable: %lld kB", &kb) == 1) {
+      *bytes = 1024.0 * (PetscLogDouble)kb;
+      break;
+    }
+  }
+  fclose(f);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char what[])
+{
+  MPI_Comm       node;
+  PetscMPIInt    nlocal;
+  PetscLogDouble avail, need;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
+  PetscCallMPI(MPI_Comm_size(node, &nlocal));
+  PetscCallMPI(MPI_Comm_free(&node));
+  PetscCall(BwMemoryAvailable(&avail));
+  /* the smallest node and the most crowded decide, the same on every rank */
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &avail, 1, MPI_DOUBLE, MPI_MIN, comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nlocal, 1, MPI_INT, MPI_MAX, comm));
+  need = bytes * nlocal;
+  PetscCheck(need <= avail, comm, PETSC_ERR_USER_INPUT, "%s needs about %.3g GB of memory (%.3g GB on each of the %d ranks of a node), more than the %.3g GB this machine has available", what, need / 1e9, bytes / 1e9, nlocal, avail / 1e9);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -26,5 +26,12 @@ PetscErrorCode BwLogEnd(BwLog *log, BwPhase phase);
 PetscErrorCode BwLogTotal(BwLog *log, PetscLogDouble *total);
 /* Resident memory summed over ranks [bytes]: now and the peak so far. */
 PetscErrorCode BwMemoryUsage(MPI_Comm comm, PetscLogDouble *current, PetscLogDouble *peak);
+/* Memory this machine can give now [bytes]: MemAvailable of /proc/meminfo
+ * (physical memory where that is missing). */
+PetscErrorCode BwMemoryAvailable(PetscLogDouble *bytes);
+/* Refuses, before allocating, `bytes` on each rank when the ranks sharing a
+ * node cannot have that much together: one error line saying what was asked
+ * for (`what`), what it needs and what the node has. Collective. */
+PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char what[]);
 /* Path of the BLAS library this process loaded (from /proc/self/maps). */
 PetscErrorCode BwBlasName(char name[], size_t len);

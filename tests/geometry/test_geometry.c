@@ -89,9 +89,10 @@ static PetscErrorCode BwTestMain(MPI_Comm comm, BwScene *scene, BwGeometry *geom
   PetscCall(BwSceneLoad(*scene, path));
   PetscCall(BwJointLawSetFromOptions(&bed, *scene, "joints_", NULL));
   PetscCall(BwGeometryCreate(comm, geom));
+  PetscCall(BwGeometrySetFromOptions(*geom, *scene));
   PetscCall(PetscTime(&t0));
   c0 = BwCPUTime();
-  PetscCall(BwGeometrySetFromOptions(*geom, *scene, bed.thickness));
+  PetscCall(BwGeometrySetUp(*geom, *scene, bed.thickness));
   c1 = BwCPUTime();
   PetscCall(PetscTime(&t1));
   PetscCall(PetscPrintf(comm, "blocks %" PetscInt_FMT " interfaces %" PetscInt_FMT " seconds %.6f cpu %.6f\n", (*geom)->nblocks, (*geom)->ninterfaces, t1 - t0, c1 - c0));

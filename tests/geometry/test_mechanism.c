@@ -49,7 +49,8 @@ static PetscErrorCode BwBuild(MPI_Comm comm, PetscInt m, BwGeometry *geom, BwMod
   PetscCall(BwGeometryAddRectangle(g, 2, 0.01, 3, 1, NULL));         /* 4 braced block */
   for (PetscInt k = 0; k < 7; k++) PetscCall(BwGeometryAddInterface(g, pair[k][0], pair[k][1], hinge[k], 0.0, 0.1, BW_JOINT_BED));
   PetscCall(BwGeometryComputeCentroids(g));
-  PetscCall(BwModelCreate(g, model));
+  PetscCall(BwModelCreate(comm, model));
+  PetscCall(BwModelAllocate(*model, g));
   (*model)->m = m;
   for (PetscInt k = 0; k < g->ninterfaces; k++) {
     (*model)->kn[k] = 1e9;
@@ -64,18 +65,18 @@ static PetscErrorCode BwBuild(MPI_Comm comm, PetscInt m, BwGeometry *geom, BwMod
  * and assembly), then the check. */
 static PetscErrorCode BwScene_(MPI_Comm comm, BwScene *scene, BwGeometry *geom, BwModel *model, BwMixed *mx)
 {
-  char       path[PETSC_MAX_PATH_LEN] = "";
-  BwJointLaw bed;
+  char path[PETSC_MAX_PATH_LEN] = "";
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), NULL));
   PetscCall(BwSceneCreate(comm, scene));
   PetscCall(BwSceneLoad(*scene, path));
-  PetscCall(BwJointLawSetFromOptions(&bed, *scene, "joints_", NULL));
+  PetscCall(BwModelCreate(comm, model));
+  PetscCall(BwModelSetFromOptions(*model, *scene));
   PetscCall(BwGeometryCreate(comm, geom));
-  PetscCall(BwGeometrySetFromOptions(*geom, *scene, bed.thickness));
-  PetscCall(BwModelCreate(*geom, model));
-  PetscCall(BwModelSetFromOptions(*model, *scene, &bed, &bed));
+  PetscCall(BwGeometrySetFromOptions(*geom, *scene));
+  PetscCall(BwGeometrySetUp(*geom, *scene, (*model)->bed.thickness));
+  PetscCall(BwModelSetUp(*model, *geom, *scene));
   PetscCall(BwMixedCreate(*model, NULL, mx));
   PetscCall(BwMixedAssemble(*mx));
   PetscCall(BwMixedCheckMechanism(*mx, "test"));

@@ -1,5 +1,6 @@
-/* Unit tests of src/scene (BwScene): the YAML scene file turned into PETSc
- * options, where each option came from, unused keys, and the scene as run.
+/* Unit tests of src/scene (BwScene): the YAML scene file and the command
+ * line read as typed keys, where each value came from, unused keys, and the
+ * scene as run.
  *
  *   test_scene CASE [TMPFILE] [PETSc options]
  *
@@ -28,17 +29,38 @@ static const char *bw_tmpfile  = NULL; /* TMPFILE, for the round trip */
   } while (0)
 
 /* Blockwall's sections, as the contract of BwSceneGetText lists them. */
-static const char *const BwTestSections[] = {"title", "geometry", "joints", "discretization", "supports", "loads", "gravity", "solver", "output"};
+static const char *const BwTestSections[] = {"title", "geometry", "joints", "discretization", "supports", "loads", "gravity", "solver", "output", "cases", "analysis", "sets", "progress"};
 
-/* The option has exactly this value (queried as the application would,
- * which marks it used). */
-static PetscErrorCode BwTestOption(const char option[], const char expected[])
+static PetscBool BwTestInSections(const char name[])
+{
+  for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(BwTestSections); i++) {
+    size_t n = strlen(BwTestSections[i]);
+
+    if (!strncmp(name, BwTestSections[i], n) && (name[n] == 0 || name[n] == '_')) return PETSC_TRUE;
+  }
+  return PETSC_FALSE;
+}
+
+/* The value in effect of an option, as text, read as the application
+ * would (which marks it used): blockwall's keys through the scene, the
+ * others from PETSc's database. */
+static PetscErrorCode BwTestGet(BwScene scene, const char option[], char value[], size_t len, PetscBool *set)
+{
+  PetscFunctionBeginUser;
+  value[0] = 0;
+  if (BwTestInSections(option + 1)) PetscCall(BwSceneText(scene, option, value, len, set));
+  else PetscCall(PetscOptionsGetString(NULL, NULL, option, value, len, set));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The option has exactly this value. */
+static PetscErrorCode BwTestOption(BwScene scene, const char option[], const char expected[])
 {
   char      value[512];
   PetscBool set;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetString(NULL, NULL, option, value, sizeof(value), &set));
+  PetscCall(BwTestGet(scene, option, value, sizeof(value), &set));
   BwTestCheck(set, "%s: not set, expected '%s'", option, expected);
   if (set) BwTestCheck(!strcmp(value, expected), "%s: got '%s', expected '%s'", option, value, expected);
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -102,7 +124,7 @@ static const char *const BwTestValues[][2] = {
 };
 
 /* Checks values.yaml's options, replacing those in `changed` (pairs). */
-static PetscErrorCode BwTestValuesLoaded(PetscInt nchanged, const char *const changed[][2])
+static PetscErrorCode BwTestValuesLoaded(BwScene scene, PetscInt nchanged, const char *const changed[][2])
 {
   PetscFunctionBeginUser;
   for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(BwTestValues); i++) {
@@ -110,7 +132,7 @@ static PetscErrorCode BwTestValuesLoaded(PetscInt nchanged, const char *const ch
 
     for (PetscInt j = 0; j < nchanged; j++)
       if (!strcmp(changed[j][0], BwTestValues[i][0])) expected = changed[j][1];
-    PetscCall(BwTestOption(BwTestValues[i][0], expected));
+    PetscCall(BwTestOption(scene, BwTestValues[i][0], expected));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -120,8 +142,8 @@ static PetscErrorCode BwTestCaseValues(void)
 {
   BwScene           scene;
   const char       *dir;
-  PetscReal         openings[10];
-  PetscInt          n = 10, m;
+  PetscReal        *openings;
+  PetscInt          n, m = 0;
   PetscBool         set, tension = PETSC_TRUE;
   const char *const joints[] = {"joints_E", "joints_nu", "joints_tension"};
 
@@ -130,18 +152,22 @@ static PetscErrorCode BwTestCaseValues(void)
   PetscCall(BwSceneGetDirectory(scene, &dir));
   BwTestCheck(!strcmp(dir, "."), "directory before load: got '%s'", dir);
   PetscCall(BwSceneLoad(scene, "values.yaml"));
-  PetscCall(BwTestValuesLoaded(0, NULL));
+  PetscCall(BwTestValuesLoaded(scene, 0, NULL));
 
-  /* The values mean what they say to PETSc's typed getters. */
-  PetscCall(PetscOptionsGetRealArray(NULL, NULL, "-geometry_openings", openings, &n, &set));
+  /* The values mean what they say to the typed getters. */
+  PetscCall(BwSceneRealArray(scene, "-geometry_openings", "test", &openings, &n, &set));
   BwTestCheck(set && n == 8 && openings[0] == 0.5 && openings[3] == 2.0 && openings[4] == 2.5 && openings[7] == 2.0, "-geometry_openings as reals: n = %d", (int)n);
-  PetscCall(PetscOptionsGetBool(NULL, NULL, "-joints_tension", &tension, &set));
+  PetscCall(PetscFree(openings));
+  PetscCall(BwSceneBool(scene, "-joints_tension", "test", &tension, &set));
   BwTestCheck(set && !tension, "-joints_tension as a bool");
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-discretization_m", &m, &set));
+  PetscCall(BwSceneInt(scene, "-discretization_m", "test", &m, &set));
   BwTestCheck(set && m == 4, "-discretization_m as an int: %d", (int)m);
+  /* blockwall's keys never reach PETSc's database; the others do */
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-joints_E", &set));
+  BwTestCheck(!set, "-joints_E is in PETSc's database");
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-ksp_type", &set));
+  BwTestCheck(set, "-ksp_type is not in PETSc's database");
   /* An empty mapping sets nothing. */
-  PetscCall(PetscOptionsHasName(NULL, NULL, "-supports", &set));
-  BwTestCheck(!set, "supports: {} set -supports");
   PetscCall(BwTestList(scene, "supports_", 0, NULL));
   PetscCall(BwTestList(scene, "joints_", 3, joints));
 
@@ -151,7 +177,7 @@ static PetscErrorCode BwTestCaseValues(void)
   PetscCall(BwTestLocate(scene, "-solver_rtol", "-solver_rtol"));
   PetscCall(BwSceneGetDirectory(scene, &dir));
   BwTestCheck(!strcmp(dir, "."), "directory of values.yaml: got '%s'", dir);
-  PetscCall(BwSceneCheckUnused(scene, 0, NULL));
+  PetscCall(BwSceneCheckUnused(scene, BW_CHECK_FINAL, 0, NULL, 0, NULL));
   PetscCall(BwSceneDestroy(&scene));
   BwTestCheck(!scene, "BwSceneDestroy left the handle set");
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -194,17 +220,22 @@ static PetscErrorCode BwTestCaseOverride(void)
   PetscCall(BwTestLocate(scene, "-joints_E", "command line: -joints_E"));
   PetscCall(BwTestLocate(scene, "-solver_rtol", "command line: -solver_rtol"));
   PetscCall(BwTestLocate(scene, "-discretization_n", "values.yaml:13: discretization.n"));
-  /* Locating reads no option: all are still unused. */
+  /* Locating reads no option: all are still unused. Right after loading,
+   * only what is not blockwall's is checked: -test_extra. */
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
-  ierr = BwSceneCheckUnused(scene, PETSC_STATIC_ARRAY_LENGTH(exempt), exempt);
+  ierr = BwSceneCheckUnused(scene, BW_CHECK_SETUP, PETSC_STATIC_ARRAY_LENGTH(exempt), exempt, 0, NULL);
   PetscCall(PetscPopErrorHandler());
   PetscCall(BwTestError(ierr, "values.yaml:2: unknown key 'title' (nothing uses it)"));
-
-  PetscCall(BwTestValuesLoaded(PETSC_STATIC_ARRAY_LENGTH(changed), changed));
-  PetscCall(BwTestOption("-solver_rtol", "1e-9"));
-  PetscCall(BwSceneCheckUnused(scene, PETSC_STATIC_ARRAY_LENGTH(exempt), exempt));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
-  ierr = BwSceneCheckUnused(scene, 0, NULL);
+  ierr = BwSceneCheckUnused(scene, BW_CHECK_FOREIGN, 0, NULL, 1, (const char *const[]){"ksp_"});
+  PetscCall(PetscPopErrorHandler());
+  PetscCall(BwTestError(ierr, "unknown option -test_extra (nothing uses it)"));
+
+  PetscCall(BwTestValuesLoaded(scene, PETSC_STATIC_ARRAY_LENGTH(changed), changed));
+  PetscCall(BwTestOption(scene, "-solver_rtol", "1e-9"));
+  PetscCall(BwSceneCheckUnused(scene, BW_CHECK_FINAL, PETSC_STATIC_ARRAY_LENGTH(exempt), exempt, 0, NULL));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = BwSceneCheckUnused(scene, BW_CHECK_FINAL, 0, NULL, 0, NULL);
   PetscCall(PetscPopErrorHandler());
   PetscCall(BwTestError(ierr, "unknown option -test_extra (nothing uses it)"));
   PetscCall(BwSceneDestroy(&scene));
@@ -241,12 +272,20 @@ static PetscErrorCode BwTestCaseUnknownKey(void)
   PetscFunctionBeginUser;
   PetscCall(BwSceneCreate(PETSC_COMM_WORLD, &scene));
   PetscCall(BwSceneLoad(scene, "unknown.yaml"));
-  PetscCall(BwTestOption("-title", "unknown key"));
-  PetscCall(BwTestOption("-joints_E", "3e9"));
+  PetscCall(BwTestOption(scene, "-title", "unknown key"));
+  PetscCall(BwTestOption(scene, "-joints_E", "3e9"));
+  {
+    /* asked for, not set: the vocabulary the suggestion comes from */
+    PetscReal food = 0;
+    PetscBool set;
+    PetscCall(BwSceneReal(scene, "-joints_food", "test", &food, &set));
+    BwTestCheck(!set, "-joints_food is set");
+  }
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
-  ierr = BwSceneCheckUnused(scene, 0, NULL);
+  ierr = BwSceneCheckUnused(scene, BW_CHECK_SETUP, 0, NULL, 0, NULL);
   PetscCall(PetscPopErrorHandler());
-  PetscCall(BwTestError(ierr, "unknown.yaml:5: unknown key 'joints.foo' (nothing uses it)"));
+  /* the nearest name asked for is suggested */
+  PetscCall(BwTestError(ierr, "unknown.yaml:5: unknown key 'joints.foo' (nothing uses it; did you mean -joints_food?)"));
   PetscCall(BwSceneDestroy(&scene));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -278,20 +317,10 @@ static PetscErrorCode BwTestBadFile(const char file[], const char expected[])
   PetscCall(PetscPopErrorHandler());
   PetscCall(BwTestError(ierr, expected));
   /* A file that does not load inserts nothing. */
-  PetscCall(PetscOptionsHasName(NULL, NULL, "-joints_E", &set));
-  BwTestCheck(!set, "%s: -joints_E inserted by a file that failed", file);
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-ksp_type", &set));
+  BwTestCheck(!set, "%s: -ksp_type inserted by a file that failed", file);
   PetscCall(BwSceneDestroy(&scene));
   PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-static PetscBool BwTestInSections(const char name[])
-{
-  for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(BwTestSections); i++) {
-    size_t n = strlen(BwTestSections[i]);
-
-    if (!strncmp(name, BwTestSections[i], n) && (name[n] == 0 || name[n] == '_')) return PETSC_TRUE;
-  }
-  return PETSC_FALSE;
 }
 
 /* The scene options in effect: the file's keys and command-line options of
@@ -313,7 +342,7 @@ static PetscErrorCode BwTestSnapshot(BwScene scene, PetscInt *n, char ***names, 
       PetscCall(PetscFree((*names)[i]));
       continue;
     }
-    PetscCall(PetscOptionsGetString(NULL, NULL, option, value, sizeof(value), &set));
+    PetscCall(BwTestGet(scene, option, value, sizeof(value), &set));
     (*names)[count] = (*names)[i];
     PetscCall(PetscStrallocpy(value, &(*values)[count++]));
   }

@@ -1,0 +1,21 @@
+/* Interrupted runs leave nothing behind: SIGTERM, SIGINT and SIGHUP remove
+ * the temporary files of the output being written (the target itself is
+ * only ever replaced by a rename of a complete file), print one line, and
+ * end the process with the signal. The renames that publish a result are
+ * made with those signals blocked, so an interruption sees the old files or
+ * the new ones, never a mix.
+ *
+ * A signal handler can reach only static data: the temporary paths live in
+ * a fixed table here, the one global state of blockwall, by necessity. */
+#pragma once
+#include <petscsys.h>
+
+/* Installs the handlers (after PetscInitialize, over PETSc's for these
+ * signals); rank 0 prints the line. */
+PetscErrorCode BwSignalsInstall(MPI_Comm comm);
+/* A temporary file a signal must remove / no longer remove. */
+PetscErrorCode BwTemporaryAdd(const char path[]);
+void           BwTemporaryRemove(const char path[]);
+/* rename(from[k], to[k]) for k < n with the signals blocked; the first that
+ * fails is reported (errno kept) and the later ones are not made. */
+int BwRenameAll(int n, const char *const from[], const char *const to[], int *failed);

@@ -1,0 +1,122 @@
+"""Output that cannot be written, and runs that are interrupted, lose
+nothing: one error line from blockwall, exit 1, no crash, no hang, the
+earlier result untouched, no temporary file and no directory created.
+
+  full PROCS       the file system reports too little free space (before
+                   writing): refused before a byte is written
+  diskfull PROCS   the disk fills while the file is written (seen by the
+                   ranks that write): every rank learns it, the file is
+                   closed collectively (before: a segfault on 1 rank and a
+                   hang on 2)
+  signal SIG PROCS SIGTERM or SIGINT while the file is being written: the
+                   temporary file is removed (before: left behind)
+  solve PROCS      SIGTERM during the solve: no file created
+
+The faults come from tests/errors/failwrite.c, preloaded into the run
+(BW_FAIL_AFTER, BW_FAKE_FREE, BW_WRITE_DELAY_MS). On 2 ranks mpiexec adds
+its own lines about the failed job; blockwall's are counted."""
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
+from bwrun import ENV, EXE, MPIEXEC, Failure, expect  # noqa: E402
+
+SCENE = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
+SHIM = os.environ.get("BW_FAILWRITE", os.path.join(os.path.dirname(EXE), "..", "tests", "libbw_failwrite.so"))
+BEFORE = b"an earlier result that must survive\n"
+
+
+def command(procs, target, extra=()):
+    cmd = [EXE, "-scene", SCENE, "-output_file", target, *extra]
+    if procs > 1:
+        cmd = [MPIEXEC, "--oversubscribe", "-n", str(procs), *cmd]
+    return cmd
+
+
+def prepare(tmp):
+    """An earlier result at out/r.h5, and a target in a directory that does not exist yet."""
+    old = os.path.join(tmp, "r.h5")
+    with open(old, "wb") as f:
+        f.write(BEFORE)
+    return old, os.path.join(tmp, "new", "deeper", "r.h5")
+
+
+def check_clean(tmp, old, what):
+    with open(old, "rb") as f:
+        expect(f.read() == BEFORE, f"{what}: the earlier result was changed")
+    left = sorted(os.listdir(tmp))
+    expect(left == ["r.h5"], f"{what}: left behind: {left}")
+
+
+def blockwall_lines(stderr):
+    return [l for l in stderr.splitlines() if l.startswith("blockwall:")]
+
+
+def refused(case, procs, env_extra, want):
+    env = dict(ENV, LD_PRELOAD=os.path.abspath(SHIM), **env_extra)
+    with tempfile.TemporaryDirectory() as tmp:
+        old, new = prepare(tmp)
+        for target in (old, new):
+            p = subprocess.run(command(procs, target), capture_output=True, text=True, env=env, timeout=120)
+            ours = blockwall_lines(p.stderr)
+            expect(p.returncode == 1, f"{case} on {procs}: exit {p.returncode} (expected 1; 139 is a crash)\n{p.stderr}")
+            expect(len(ours) == 1 and want in ours[0], f"{case} on {procs}: blockwall's lines {ours}, expected one with {want!r}")
+            if procs == 1:
+                expect(len([l for l in p.stderr.splitlines() if l.strip()]) == 1, f"{case}: stderr is not one line:\n{p.stderr}")
+            check_clean(tmp, old, f"{case} on {procs} rank(s), target {os.path.relpath(target, tmp)}")
+        print(f"{case} on {procs} rank(s): {ours[0]}")
+
+
+def interrupted(sig, procs):
+    """Each write of the temporary file is slowed down, the signal is sent
+    once the temporary file exists."""
+    env = dict(ENV, LD_PRELOAD=os.path.abspath(SHIM), BW_WRITE_DELAY_MS="150")
+    with tempfile.TemporaryDirectory() as tmp:
+        old, _ = prepare(tmp)
+        p = subprocess.Popen(command(procs, old), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+        t0, seen = time.time(), False
+        while time.time() - t0 < 60 and p.poll() is None and not seen:
+            seen = any(".tmp-" in n for n in os.listdir(tmp))
+            time.sleep(0.01)
+        expect(seen, f"signal {sig}: the temporary file never appeared")
+        p.send_signal(sig)
+        out, err = p.communicate(timeout=60)
+        expect(p.returncode != 0, f"signal {sig} on {procs}: the run ended with exit 0")
+        ours = blockwall_lines(err)
+        expect(ours and "interrupted by a signal" in ours[0], f"signal {sig} on {procs}: blockwall said {ours}\n{err}")
+        check_clean(tmp, old, f"signal {sig} on {procs} rank(s)")
+        print(f"signal {signal.Signals(sig).name} on {procs} rank(s) while writing: exit {p.returncode}, {ours[0]}; nothing left behind")
+
+
+def during_solve(procs):
+    with tempfile.TemporaryDirectory() as tmp:
+        target = os.path.join(tmp, "sub", "r.h5")
+        big = ["-geometry_running_bond_courses", "300", "-geometry_running_bond_units_per_course", "300", "-progress"]
+        p = subprocess.Popen(command(procs, target, big), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+        line = p.stdout.readline()  # the first phase (generate) has ended: the work is under way
+        expect("[blockwall]" in line, f"no progress line: {line!r}")
+        p.send_signal(signal.SIGTERM)
+        out, err = p.communicate(timeout=60)
+        expect(p.returncode != 0, "SIGTERM during the solve: exit 0")
+        expect(os.listdir(tmp) == [], f"SIGTERM during the solve: left {os.listdir(tmp)}")
+        print(f"SIGTERM after '{line.split()[1]}' on {procs} rank(s): exit {p.returncode}, nothing created")
+
+
+if __name__ == "__main__":
+    try:
+        case, args = sys.argv[1], sys.argv[2:]
+        if case == "full":
+            refused("full", int(args[0]), {"BW_FAKE_FREE": "100000"}, "its file system has")
+        elif case == "diskfull":
+            refused("diskfull", int(args[0]), {"BW_FAIL_AFTER": "50000"}, "No space left on device")
+        elif case == "signal":
+            interrupted(getattr(signal, args[0]), int(args[1]))
+        elif case == "solve":
+            during_solve(int(args[0]))
+    except Failure as e:
+        print("FAIL", e)
+        sys.exit(1)
