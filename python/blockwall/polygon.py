@@ -236,6 +236,14 @@ def overlaps(polygons, delta):
     return found
 
 
+def inside(a, b, delta):
+    """True when polygon a lies inside polygon b (a hole of b): every corner
+    of a off b's boundary is inside b, and there is one."""
+    off = [q for q in np.asarray(a, float)
+           if min(_point_segment(q, b[k], b[(k + 1) % len(b)]) for k in range(len(b))) > delta]
+    return bool(off) and all(contains(b, q) for q in off)
+
+
 def contains(p, q):
     """True when point q lies inside polygon p (even-odd rule)."""
     x, y = q
