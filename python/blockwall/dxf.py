@@ -238,8 +238,10 @@ def read_outlines(drawing, unit=None):
             outlines.append(Outline(_polyline(e, where) * factor, kind, handle, layer, where))
         elif kind == "HATCH":
             for k, pts in _hatch_paths(e, lambda k: _where(kind, handle, layer, via, k)):
-                hatches.append(Outline(pts * factor, kind, handle, layer, _where(kind, handle, layer, via, k),
-                                       group=f"{handle}|{via}", path=k))
+                o = Outline(pts * factor, kind, handle, layer, _where(kind, handle, layer, via, k),
+                            group=f"{handle}|{via}", path=k)
+                hatches.append(o)
+                outlines.append(o)
         elif kind == "LINE":
             raise DxfError(f"{where}: open outline: a LINE is not a block; join the lines of a block into one "
                            f"closed polyline")
@@ -252,19 +254,17 @@ def read_outlines(drawing, unit=None):
             raise DxfError(f"{where}: a {kind} entity cannot be read as a block outline; draw blocks as closed "
                            f"polylines or hatches")
     # a block has no hole: no boundary path of a hatch lies inside another
-    delta = polygon.tolerance([o.points for o in outlines + hatches]) if outlines or hatches else 0.0
+    delta = polygon.tolerance([o.points for o in outlines]) if outlines else 0.0
     for a in hatches:
         for b in hatches:
             if b is not a and b.group == a.group and polygon.inside(a.points, b.points, delta):
                 raise DxfError(f"{a.where}: a hole in boundary path {b.path} of the same hatch: a block cannot have "
                                f"a hole; draw the pieces around it as separate blocks")
     # a hatch drawn over its own boundary polyline is a fill, not a block
-    fills = 0
-    for h in hatches:
-        if any(polygon.same_outline(h.points, o.points, delta) for o in outlines):
-            fills += 1
-        else:
-            outlines.append(h)
+    lines = [o for o in outlines if o.kind != "HATCH"]
+    fill = [h for h in hatches if any(polygon.same_outline(h.points, o.points, delta) for o in lines)]
+    outlines = [o for o in outlines if not any(o is h for h in fill)]
+    fills = len(fill)
     return outlines, name, rule, ignored, fills
 
 
