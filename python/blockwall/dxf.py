@@ -313,7 +313,8 @@ def import_dxf(drawing, geometry, layer_sets=False, unit=None, depth=None):
         write_geometry(geometry, polys, sets=sets, depth=depth, check=False)
     except OSError as e:
         raise DxfError(f"{geometry}: cannot be written: {e.strerror or e}") from None
-    return Report(len(polys), Counter(o.kind for o in outlines), {k: len(v) for k, v in sets.items()}, name, rule,
+    kinds = Counter(o.kind + (" of an INSERT" if "(in INSERT" in o.where else "") for o in outlines)
+    return Report(len(polys), kinds, {k: len(v) for k, v in sets.items()}, name, rule,
                   ignored, fills)
 
 
