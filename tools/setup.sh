@@ -5,11 +5,10 @@ BW_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 
 # Debian 12 packages. libopenblas0-pthread gives an optimised BLAS/LAPACK
-# that Debian's alternatives pick over the reference libblas.so.3
-# (libblas3, liblapack3: the reference ones, which the alternatives need).
+# that Debian's alternatives pick over the reference libblas.so.3.
 BW_DEBS=(build-essential gfortran cmake ninja-build pkg-config
          petsc-dev libhdf5-openmpi-dev hdf5-tools libmetis-dev libyaml-dev
-         openmpi-bin libopenmpi-dev libblas3 liblapack3 libopenblas0-pthread python3 python3-pip)
+         openmpi-bin libopenmpi-dev libopenblas0-pthread libblas3 liblapack3 python3 python3-pip)
 
 bw_install_debs() {
   local missing=()
