@@ -24,17 +24,29 @@ bw_install_debs() {
   fi
 }
 
-# Python only for post-processing tools and test checks.
+# Python: numpy and h5py for the package python/blockwall (geometry files,
+# results, launching), matplotlib for its plots, ezdxf for tools/import_dxf,
+# meshio for the XDMF test; then the package itself, editable, so that
+# `import blockwall` and blockwall-plot / blockwall-import-dxf use this checkout.
+bw_pip() {
+  python3 -m pip install -q "$@" 2>/dev/null || python3 -m pip install -q --break-system-packages "$@"
+}
+
 bw_install_python() {
   local need=()
   python3 -c 'import numpy' 2>/dev/null || need+=(numpy)
   python3 -c 'import h5py' 2>/dev/null || need+=(h5py)
   python3 -c 'import matplotlib' 2>/dev/null || need+=(matplotlib)
   python3 -c 'import meshio' 2>/dev/null || need+=(meshio)
+  python3 -c 'import ezdxf' 2>/dev/null || need+=(ezdxf)
   if [ ${#need[@]} -gt 0 ]; then
     echo "setup: pip installing ${need[*]}"
-    python3 -m pip install -q "${need[@]}" 2>/dev/null ||
-      python3 -m pip install -q --break-system-packages "${need[@]}"
+    bw_pip "${need[@]}"
+  fi
+  if ! (cd / && python3 -c 'import blockwall, os, sys; sys.exit(os.path.realpath(blockwall.__file__) != os.path.realpath(sys.argv[1]))' \
+          "$BW_ROOT/python/blockwall/__init__.py") 2>/dev/null; then
+    echo "setup: pip installing the blockwall Python package (editable, $BW_ROOT/python)"
+    bw_pip -e "$BW_ROOT/python"
   fi
 }
 

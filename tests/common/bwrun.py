@@ -1,18 +1,22 @@
-"""Run blockwall from a test and read its HDF5 output (h5py, numpy).
+"""Run blockwall from a test and read its HDF5 output, on the blockwall
+Python package of this checkout (python/blockwall: launch.py, results.py).
 
 The executable and mpiexec come from the environment set by ctest
-(BW_EXE, BW_MPIEXEC); every run writes into its own temporary directory."""
+(BW_EXE, BW_MPIEXEC); every run writes into its own temporary directory.
+The names below are the tests' API: run, solve, read, rel_err, expect,
+Failure, EXE, ENV, MPIEXEC."""
 import os
-import subprocess
+import sys
 import tempfile
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+import blockwall  # noqa: E402
 
 EXE = os.environ.get("BW_EXE", "build/bin/blockwall")
 MPIEXEC = os.environ.get("BW_MPIEXEC", "mpiexec")
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
+ENV = blockwall.environment()
 
 
 class Failure(Exception):
@@ -21,12 +25,9 @@ class Failure(Exception):
 
 def run(scene, args=(), np_ranks=1, expect_ok=True, timeout=600):
     """Run blockwall; returns (returncode, stdout, stderr)."""
-    cmd = [EXE, "-scene", scene, *map(str, args)]
-    if np_ranks > 1:
-        cmd = [MPIEXEC, "--oversubscribe", "-n", str(np_ranks), *cmd]
-    p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=timeout)
+    p = blockwall.run(scene, args, np_ranks, exe=EXE, mpiexec=MPIEXEC, check=False, timeout=timeout)
     if expect_ok and p.returncode != 0:
-        raise Failure(f"blockwall failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout}\n{p.stderr}")
+        raise Failure(f"blockwall failed ({p.returncode}): {' '.join(p.cmd)}\n{p.stdout}\n{p.stderr}")
     return p.returncode, p.stdout, p.stderr
 
 
@@ -39,12 +40,8 @@ def solve(scene, args=(), np_ranks=1):
 
 
 def read(path):
-    res = {}
-    with h5py.File(path, "r") as f:
-        f.visititems(lambda name, obj: res.__setitem__(name, obj[()]) if isinstance(obj, h5py.Dataset) else None)
-        res["attrs"] = {k: v for k, v in f.attrs.items()}
-        res["solver"] = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["solver"].attrs.items()}
-    return res
+    """{dataset path: array} of every dataset, and "attrs" (root) and "solver" (/solver attributes)."""
+    return blockwall.read_datasets(path)
 
 
 def rel_err(got, want):

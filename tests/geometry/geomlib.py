@@ -9,28 +9,18 @@ import math
 import os
 import subprocess
 
-import h5py
 import numpy as np
 
 from bwrun import ENV, EXE
+import blockwall  # noqa: E402  (bwrun put this checkout's python/ on sys.path)
 
 TEST_GEOMETRY = os.environ.get("BW_TEST_GEOMETRY", os.path.join(os.path.dirname(EXE), "test_geometry"))
 
 
 def write_geometry(path, blocks, pairs=None, kn=None, kt=None, sets=None, depth=None):
-    with h5py.File(path, "w") as f:
-        f["blocks/vertices"] = np.concatenate([np.asarray(b, float) for b in blocks])
-        f["blocks/offsets"] = np.concatenate([[0], np.cumsum([len(b) for b in blocks])]).astype(np.int64)
-        if pairs is not None:
-            f["interfaces/blocks"] = np.asarray(pairs, np.int64).reshape(-1, 2)
-        if kn is not None:
-            f["interfaces/kn"] = np.asarray(kn, float)
-        if kt is not None:
-            f["interfaces/kt"] = np.asarray(kt, float)
-        for name, members in (sets or {}).items():
-            f[f"sets/{name}"] = np.asarray(members, np.int64)
-        if depth is not None:
-            f.attrs["depth"] = float(depth)
+    """The arrays exactly as given (unchecked: the tests feed blockwall broken
+    and extreme geometry on purpose), with the package's writer."""
+    blockwall.write_geometry(path, blocks, sets=sets, pairs=pairs, kn=kn, kt=kt, depth=depth, check=False)
 
 
 def write_scene(path, geometry_file, joints=None, supports=None, loads=None, m=16, extra=""):
@@ -173,9 +163,9 @@ def geometry_only(scene, args=(), np_ranks=1, dump=None):
     p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=900)
     out = None
     if dump and p.returncode == 0:
-        with h5py.File(dump, "r") as f:
-            out = {k: f[k][()] for k in ("blocks/centroid", "blocks/area", "interfaces/blocks", "interfaces/center",
-                                         "interfaces/angle", "interfaces/length", "interfaces/kind")}
+        d = blockwall.read_datasets(dump)
+        out = {k: d[k] for k in ("blocks/centroid", "blocks/area", "interfaces/blocks", "interfaces/center",
+                                 "interfaces/angle", "interfaces/length", "interfaces/kind")}
     return p.returncode, p.stdout, p.stderr, out
 
 

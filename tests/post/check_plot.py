@@ -1,4 +1,4 @@
-"""tools/plot and the blockwall_post package against the HDF5 datasets.
+"""tools/plot and the blockwall package's plots against the HDF5 datasets.
 
 The command must write non-empty PNGs (decoded back into pixels that are
 not one flat colour) and print the root and /solver attributes; the numbers
@@ -26,10 +26,9 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 TOOLS = os.path.join(HERE, "..", "..", "tools")
-sys.path.insert(0, TOOLS)
 from bwrun import ENV, Failure, expect, run  # noqa: E402
 
-import blockwall_post as post  # noqa: E402
+import blockwall as post  # noqa: E402  (this checkout's python/, put on sys.path by bwrun)
 from matplotlib.image import imread  # noqa: E402
 
 TWO_BLOCKS = os.path.join(HERE, "..", "paper", "two_blocks.yaml")

@@ -1,10 +1,11 @@
-"""tools/plot: PNGs of a blockwall result file, and its summary on stdout."""
+"""tools/plot (blockwall-plot when installed): PNGs of a blockwall result
+file, and its summary on stdout."""
 import argparse
 import os
 import sys
 
-from .plots import COLORS, plot_interface_stress, plot_wall
-from .results import load
+from .plots import COLORS, plot_history, plot_interface_stress, plot_wall
+from .results import read
 from .summary import summary
 
 DEFAULT_ALL = 8    # up to this many interfaces, draw every stress diagram ...
@@ -24,9 +25,9 @@ def _interfaces(text, n):
     return chosen
 
 
-def main(argv=None):
+def main(argv=None, prog="tools/plot"):
     p = argparse.ArgumentParser(
-        prog="tools/plot",
+        prog=prog,
         description="Draw a blockwall result: the deformed wall (STEM_wall.png) and the normal and shear "
                     "stress diagrams along interfaces (STEM_stress_K.png); print the file's attributes.")
     p.add_argument("file", help="HDF5 result file written by blockwall")
@@ -41,7 +42,7 @@ def main(argv=None):
     try:
         if args.scale is not None and not args.scale > 0:
             raise ValueError(f"--scale must be > 0, got {args.scale:g}")
-        res = load(args.file)
+        res = read(args.file)
         chosen = _interfaces(args.interfaces, res.ninterfaces)
     except (OSError, ValueError) as e:
         print(f"plot: error: {e}", file=sys.stderr)
@@ -55,6 +56,10 @@ def main(argv=None):
     path = os.path.join(outdir, f"{stem}_wall.png")
     wall.figure.savefig(path, dpi=args.dpi)
     print(f"wall, displacements x{wall.scale:g}: {path}")
+    if res.history:
+        path = os.path.join(outdir, f"{stem}_history.png")
+        plot_history(res).figure.savefig(path, dpi=args.dpi)
+        print(f"pushover history (load factor against the monitor dof): {path}")
     if res.stress is None:
         print("no stress diagrams: the file has no /interfaces/stress (output.stresses false)")
         return 0

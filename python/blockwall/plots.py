@@ -173,3 +173,33 @@ def plot_interface_stress(res, k):
                  f"m = {res.m}\nT = {T:.4g} N, N = {N:.4g} N, M = {M:.4g} N·m")
     return StressPlot(fig, {"normal": ax_n, "shear": ax_t}, k, edges, normal, shear, lines,
                       {"normal": mean_normal, "shear": mean_shear})
+
+
+@dataclass
+class HistoryPlot:
+    figure: Figure
+    ax: object
+    monitor: np.ndarray             # (S,) the monitor dof at each converged step
+    load_factor: np.ndarray         # (S,) lambda
+
+
+def plot_history(res):
+    """A pushover's capacity curve: the load factor against the monitor
+    dof, one marker per converged step (/history)."""
+    if not res.history or "load_factor" not in res.history or "monitor" not in res.history:
+        raise ValueError(f"{res.path} has no /history (not a pushover result)")
+    lam, mon = np.asarray(res.history["load_factor"]), np.asarray(res.history["monitor"])
+    fig = _canvas((7, 5))
+    ax = fig.add_subplot()
+    ax.plot(mon, lam, "-o", markersize=3, color="tab:blue")
+    ax.axhline(0, color="k", linewidth=0.6)
+    peak = res.solver.get("peak_load_factor")
+    if isinstance(peak, (int, float)):
+        ax.axhline(peak, color="0.4", linestyle="--", linewidth=1, label=f"peak λ = {peak:.6g}")
+        ax.legend(loc="best", fontsize="small")
+    ax.set_xlabel("monitor dof [m or rad]")
+    ax.set_ylabel("load factor λ")
+    ax.grid(True, alpha=0.3)
+    stop = res.solver.get("stop_reason", "")
+    ax.set_title(f"{res.title or 'blockwall'}: pushover, {len(lam)} steps" + (f"\n{stop}" if stop else ""))
+    return HistoryPlot(fig, ax, mon, lam)

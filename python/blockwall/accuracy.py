@@ -42,8 +42,10 @@ import subprocess
 import tempfile
 import time
 
-import h5py
 import numpy as np
+
+from .launch import run
+from .results import read_datasets
 
 PATHS = {
     "fieldsplit": ["-solver_method", "fieldsplit"],
@@ -51,8 +53,6 @@ PATHS = {
     "direct": ["-solver_method", "direct"],
     "condensed": ["-solver_method", "condensed"],
 }
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-           OMPI_MCA_rmaps_base_oversubscribe="1")
 FIELDS = ["scene", "sweep", "m", "path", "rtol", "status", "seconds", "seconds_total", "seconds_process", "iterations",
           "residual", "method_used", "fallback", "err_displacement", "err_stress", "err_stress_mid", "note"]
 
@@ -72,19 +72,16 @@ def run_blockwall(exe, scene, args, out, ranks=1, timeout=3600, repeat=1):
 
 
 def run_once(exe, scene, args, out, ranks, timeout):
-    cmd = [exe, "-scene", scene, *map(str, args), "-output_file", out, "-output_xdmf", "0", "-output_stresses", "1"]
-    if ranks > 1:
-        cmd = ["mpiexec", "-n", str(ranks), *cmd]
     t0 = time.perf_counter()
     try:
-        p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=timeout)
+        p = run(scene, [*args, "-output_file", out, "-output_xdmf", "0", "-output_stresses", "1"], ranks,
+                exe=exe, check=False, timeout=timeout)
     except subprocess.TimeoutExpired:
         return {"status": "timeout", "note": f"over {timeout} s", "seconds_process": timeout}
     wall = time.perf_counter() - t0
     if p.returncode != 0:
         return {"status": "failed", "note": p.stderr.strip().replace("\n", " ")[:300], "seconds_process": wall}
-    with h5py.File(out, "r") as f:
-        s = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["solver"].attrs.items()}
+    s = read_datasets(out)["solver"]
     s["status"] = "ok"
     s["seconds_process"] = wall
     s["seconds"] = s["seconds_total"] - s["seconds_write"]
@@ -98,16 +95,16 @@ def reference(ref_exe, path, exact, tmp):
     if p.returncode != 0:
         raise RuntimeError(f"bw_reference failed: {p.stderr.strip()}")
     stats = {k: float(v) for k, v in (line.split() for line in p.stdout.splitlines())}
-    with h5py.File(out, "r") as f:
-        stats.update(q=f["reference/displacement"][()], s=f["reference/stress"][()], relative=f["reference/relative"][()])
+    d = read_datasets(out)
+    stats.update(q=d["reference/displacement"], s=d["reference/stress"], relative=d["reference/relative"])
     os.remove(out)
     return stats
 
 
 def read_result(path):
-    with h5py.File(path, "r") as f:
-        r = {k: f[k][()] for k in ("blocks/displacement", "blocks/vertices", "interfaces/stress", "interfaces/length",
-                                   "interfaces/kn", "interfaces/kt")}
+    d = read_datasets(path)
+    r = {k: d[k] for k in ("blocks/displacement", "blocks/vertices", "interfaces/stress", "interfaces/length",
+                           "interfaces/kn", "interfaces/kt")}
     v = r["blocks/vertices"] - r["blocks/vertices"].min(axis=0)
     r["size"] = float(np.hypot(*v.max(axis=0)))
     return r
