@@ -1,0 +1,85 @@
+/* C prototypes of the per-portion joint laws (src/kernels/joint_law_kernels.f90,
+ * bind(C); model.md, "Nonlinear joints"). All are pure: data in, data out, no I/O,
+ * no MPI; each reports a BwLawStatus through its last argument.
+ *
+ * Per portion (tension and opening positive): jump j = (dt, dn) [m], plastic jump
+ * jpl = (slip, opening) [m], stress r = (rt, rn) = C (j - jpl) [Pa], C = diag(kt, kn).
+ *   tension cut-off  f1 = rn - ft(k1) <= 0,                flow (0, 1),              dk1 = dl1
+ *   Coulomb          f2 = |rt| + rn tanphi - c(k2) <= 0,   flow (sign(rt), tanpsi),  dk2 = dl2
+ *   ft(k1) = ft0 exp(-ft0 k1 / GfI), c(k2) = c0 exp(-c0 k2 / GfII) when GfI, GfII > 0,
+ *   constant (perfectly plastic) when GfI, GfII <= 0.
+ * Backward Euler from state_in (the converged state of the previous step) to the trial
+ * jump, multi-surface (Koiter) return with the cone as two surfaces sharing k2, and the
+ * consistent tangent dr/dj (non-symmetric when tanpsi != tanphi, zero at a corner of
+ * perfectly plastic surfaces, C when elastic). With tanpsi = 0 a trial above a cone
+ * apex lying below the cut-off returns to the apex with the cut-off's flow (the cut-off
+ * is lowered to min(ft, c/tanphi)): the cone alone has no normal flow there.
+ * The local problem is solved reliably while the softening moduli stay below the
+ * stiffnesses, ft0^2/GfI < kn and c0^2/GfII < kt; past them (a snap-back within one
+ * portion) BW_LAW_NOT_CONVERGED may come back.
+ *
+ * Arguments: n portions of one interface share par[BW_LAW_NPAR]. Arrays are
+ * interleaved per portion: jump[2n] and stress[2n] as (shear, normal) pairs,
+ * state_in[4n] and state_out[4n] as BW_LAW_STATE_* quadruples, tangent[4n] as the
+ * row-major 2x2 (drt/ddt, drt/ddn, drn/ddt, drn/ddn), mode[n] a BwLawMode.
+ * On a non-zero status the outputs are undefined (portions before the failing one are
+ * written). The C caller validates user input and names the key; the status is a last
+ * safety net. */
+#pragma once
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Positions in par[BW_LAW_NPAR]. */
+enum {
+  BW_LAW_PAR_KT,     /* shear stiffness kt > 0 [N/m^3] */
+  BW_LAW_PAR_KN,     /* normal stiffness kn > 0 [N/m^3] */
+  BW_LAW_PAR_FT,     /* tensile strength ft0 >= 0 [Pa] */
+  BW_LAW_PAR_C,      /* cohesion c0 >= 0 [Pa] */
+  BW_LAW_PAR_TANPHI, /* friction coefficient tan(phi) >= 0 */
+  BW_LAW_PAR_TANPSI, /* dilatancy tan(psi), 0 <= tan(psi) <= tan(phi) */
+  BW_LAW_PAR_GFI,    /* mode I fracture energy [N/m]; <= 0: no tension softening */
+  BW_LAW_PAR_GFII,   /* mode II fracture energy [N/m]; <= 0: no cohesion softening */
+  BW_LAW_NPAR
+};
+
+/* Positions in a portion's state (state_in, state_out). */
+enum {
+  BW_LAW_STATE_SLIP,    /* plastic slip [m] */
+  BW_LAW_STATE_OPENING, /* plastic opening [m] */
+  BW_LAW_STATE_K1,      /* accumulated plastic opening of the cut-off, >= 0 [m] */
+  BW_LAW_STATE_K2,      /* accumulated plastic slip magnitude of the cone, >= 0 [m] */
+  BW_LAW_NSTATE
+};
+
+/* Which surfaces the returned stress lies on. */
+typedef enum {
+  BW_LAW_MODE_ELASTIC = 0, /* no plastic flow in this step */
+  BW_LAW_MODE_OPEN    = 1, /* on the tension cut-off */
+  BW_LAW_MODE_SLIDING = 2, /* on the Coulomb cone, its apex included */
+  BW_LAW_MODE_CORNER  = 3  /* on both (corner; apex on the cut-off, or lowered cut-off) */
+} BwLawMode;
+
+typedef enum {
+  BW_LAW_OK            = 0,
+  BW_LAW_BAD_STIFFNESS = 1, /* kt or kn <= 0 or not finite */
+  BW_LAW_BAD_STRENGTH  = 2, /* ft, c, tanphi or tanpsi negative or not finite; tanpsi > tanphi;
+                               GfI or GfII not finite, or ft/GfI, c/GfII not finite */
+  BW_LAW_NOT_CONVERGED = 3, /* local Newton did not converge (or no admissible active set) */
+  BW_LAW_BAD_JUMP      = 4, /* a jump component not finite */
+  BW_LAW_BAD_STATE     = 5  /* a state component not finite, or k1, k2 < 0 */
+} BwLawStatus;
+
+/* Linear joint: stress = C (j - jpl) with jpl from state_in, tangent C, state_out =
+ * state_in, mode 0. Only kt and kn of par are read (and checked). */
+void bw_law_elastic(int n, const double par[], const double state_in[], const double jump[], double stress[],
+                    double tangent[], double state_out[], signed char mode[], int *status);
+/* Tension cut-off and Coulomb friction with optional exponential softening: the return
+ * mapping above, the consistent tangent, the updated state and the mode. */
+void bw_law_coulomb(int n, const double par[], const double state_in[], const double jump[], double stress[],
+                    double tangent[], double state_out[], signed char mode[], int *status);
+
+#ifdef __cplusplus
+}
+#endif

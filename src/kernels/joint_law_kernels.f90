@@ -1,0 +1,579 @@
+! Per-portion joint laws of the mixed rigid-block model (model.md, "Nonlinear joints").
+!
+! A portion carries the jump j = (dt, dn) [m], tension and opening positive, and the
+! state (slip, opening, k1, k2): the plastic jump jpl = (slip, opening) [m], the
+! accumulated plastic opening k1 and plastic slip k2 [m]. Its stress [Pa] is
+!   r = (rt, rn) = C (j - jpl),   C = diag(kt, kn) [N/m^3].
+! Strength: three linear surfaces, the Coulomb cone |rt| + rn tanphi <= c split into
+! two halves that share k2, each with a constant flow vector m_a (d jpl = sum dl_a m_a):
+!   f1  =  rn             - ft(k1) <= 0   gradient (0, 1)         flow (0, 1)          dk1 = dl1
+!   f2+ =  rt + rn tanphi - c(k2)  <= 0   gradient (+1, tanphi)   flow (+1, tanpsi)    dk2 = dl2+ + dl2-
+!   f2- = -rt + rn tanphi - c(k2)  <= 0   gradient (-1, tanphi)   flow (-1, tanpsi)
+! (the flow of g2 = |rt| + rn tanpsi, whose multiplier dl2 = dl2+ + dl2-), with
+!   ft(k1) = ft0 exp(-ft0 k1 / GfI),  c(k2) = c0 exp(-c0 k2 / GfII)
+! where GfI, GfII > 0 (so int ft dk1 = GfI, int c dk2 = GfII), constant otherwise.
+!
+! Backward Euler from the converged state (jpl_n, k_n) to the trial jump j, with the
+! trial stress r_tr = C (j - jpl_n); for an active set J (Koiter's rule):
+!   r = r_tr - C sum_J dl_a m_a,   f_a(r, k_n + dk) = 0 and dl_a >= 0 (a in J),
+!   f_b(r, k_n + dk) <= 0 for every b.
+! The set is the first admissible one (multipliers >= 0, no surface violated beyond
+! 1e-12 of the trial stress) of:
+!   elastic  every f_b(r_tr, k_n) <= 0: r = r_tr, tangent C, state unchanged.
+!   single   a surface violated at trial: dl = f_tr / (n.C m) in closed form without
+!            softening; with it, the root of a concave scalar equation, bracketed
+!            between the frozen-strength return and n.r_tr / n.C m (Newton, bisection
+!            when a step leaves the bracket).
+!   pair     {1,2+}, {1,2-}: corners of cut-off and cone; {2+,2-}: the cone's apex
+!            (rt = 0, rn = c/tanphi, reachable when it lies below the cut-off, e.g.
+!            after c softened). Closed form A0 dl = f_tr without softening. With it:
+!            at the apex rt = 0 fixes dl2+ - dl2-, and the sum solves a bracketed
+!            scalar equation from |dl2+ - dl2-| on; at a corner without dilatancy the
+!            cut-off's equation holds dl1 alone, so two bracketed scalar equations in
+!            turn; at a corner with dilatancy a 2x2 Newton with backtracking started
+!            from the frozen-strength return. A pair whose gradients or flows are
+!            dependent is skipped: tanphi = 0 (parallel f2+-) or tanpsi = 0 (no normal
+!            flow at the apex).
+!            A single return whose stress also lies on another surface is used only
+!            when no pair is admissible: the larger set gives the derivative of the
+!            neighbourhood (e.g. an open dry joint has no shear stiffness).
+!   apex with tanpsi = 0: the cone's flow has no normal part, so a trial above an apex
+!            lying below the cut-off has no return in the law above. There the cut-off
+!            is lowered to the apex, f1* = rn - min(ft(k1), c(k2)/tanphi):
+!            rt = 0, rn = c(k2)/tanphi, dk2 = |d slip| = |rt_tr|/kt, dk1 = d opening,
+!            mode 3; tangent: drn/ddt = c'(k2) sign(d slip) / tanphi, the rest zero.
+! With softening moduli below the stiffnesses (ft0^2/GfI < kn, c0^2/GfII < kt) every
+! random trial of tests/unit/test_laws.c finds an admissible set, some at 0.99 of that
+! bound; past it (a local snap-back) the step may have several solutions or none that
+! this search finds, and the status is BW_LAW_NOT_CONVERGED.
+! Consistent tangent of the active set, by implicit differentiation of the equations:
+!   dr/dj = C - C M A^-1 N^T C,   A_ab = n_a.C m_b + ds_a/dk [k_a is k_b],
+! N, M the gradients and flows of the set, s_a its strength (ft or c), ds/dk <= 0:
+! C when elastic, zero at a corner of perfectly plastic surfaces, non-symmetric when
+! tanpsi /= tanphi.
+!
+! Pure subroutines, data in and data out, status last (BW_LAW_* in
+! include/blockwall/laws.h); none stops or prints. Arrays are interleaved per portion:
+! the Fortran array jump(2, n) is the C array double jump[n][2].
+module bw_joint_law_kernels
+  use, intrinsic :: iso_c_binding, only: c_double, c_int, c_signed_char
+  implicit none
+  private
+  public :: bw_law_elastic, bw_law_coulomb
+
+  integer(c_int), parameter, public :: BW_LAW_OK = 0, BW_LAW_BAD_STIFFNESS = 1, &
+       BW_LAW_BAD_STRENGTH = 2, BW_LAW_NOT_CONVERGED = 3, BW_LAW_BAD_JUMP = 4, BW_LAW_BAD_STATE = 5
+
+  ! Positions in par (BW_LAW_PAR_* + 1); a portion's state is (slip, opening, k1, k2).
+  integer, parameter :: NPAR = 8, NSTATE = 4
+  integer, parameter :: IKT = 1, IKN = 2, IFT = 3, ICOH = 4, ITANPHI = 5, ITANPSI = 6, IGFI = 7
+  ! The internal variable of each surface: k1 for the cut-off, k2 for both cone halves.
+  integer, parameter :: KVAR(3) = [1, 2, 2]
+  ! Pairs in the order tried: the corners with the cut-off before the apex, so that a
+  ! joint whose apex lies on the cut-off (no-tension dry joint) opens on the cut-off.
+  integer, parameter :: PAIRS(2, 3) = reshape([1, 2, 1, 3, 2, 3], [2, 3])
+
+  real(c_double), parameter :: ZERO = 0.0_c_double, ONE = 1.0_c_double, HALF = 0.5_c_double
+  ! Local solves' residual and the elastic test, relative to the portion's stress scale
+  ! (round-off is ~1e-16).
+  real(c_double), parameter :: RTOL = 1.0e-14_c_double
+  ! Active-set tests (signs of multipliers, surfaces at a candidate's stress): looser
+  ! than RTOL so that a converged candidate is never rejected for its own residual.
+  real(c_double), parameter :: ATOL = 1.0e-12_c_double
+  ! Exponent cap: only Newton iterates with k < 0 (rejected candidates) come near it.
+  real(c_double), parameter :: MAXEXP = 600.0_c_double
+  integer, parameter :: MAXIT = 100, MAXHALVE = 40
+
+  type :: law_t
+    real(c_double) :: kt = ZERO, kn = ZERO, tphi = ZERO, tpsi = ZERO
+    real(c_double) :: s0(2) = ZERO   ! ft0, c0
+    real(c_double) :: rate(2) = ZERO ! ft0/GfI, c0/GfII; zero without softening
+    real(c_double) :: nv(2, 3) = ZERO, mv(2, 3) = ZERO, cm(2, 3) = ZERO ! n_a, m_a, C m_a
+  end type law_t
+
+  type :: candidate_t
+    logical :: valid = .false., strict = .false., failed = .false.
+    real(c_double) :: dl(3) = ZERO, r(2) = ZERO, k(2) = ZERO, t(2, 2) = ZERO
+  end type candidate_t
+
+contains
+
+  pure logical function finite(x)
+    real(c_double), intent(in) :: x
+    finite = abs(x) <= huge(x) ! false for NaN and infinities
+  end function finite
+
+  pure function check_stiffness(par) result(status)
+    real(c_double), intent(in) :: par(NPAR)
+    integer(c_int) :: status
+    status = BW_LAW_OK
+    if (.not. (par(IKT) > 0 .and. finite(par(IKT)) .and. par(IKN) > 0 .and. finite(par(IKN)))) &
+         status = BW_LAW_BAD_STIFFNESS
+  end function check_stiffness
+
+  pure function check_portion(state, jump) result(status)
+    real(c_double), intent(in) :: state(NSTATE), jump(2)
+    integer(c_int) :: status
+    integer :: i
+    status = BW_LAW_OK
+    if (.not. (finite(jump(1)) .and. finite(jump(2)))) then
+      status = BW_LAW_BAD_JUMP
+      return
+    end if
+    do i = 1, NSTATE
+      if (.not. finite(state(i))) status = BW_LAW_BAD_STATE
+    end do
+    if (.not. (state(3) >= 0 .and. state(4) >= 0)) status = BW_LAW_BAD_STATE
+  end function check_portion
+
+  pure subroutine make_law(par, law, status)
+    real(c_double), intent(in) :: par(NPAR)
+    type(law_t), intent(out) :: law
+    integer(c_int), intent(out) :: status
+    integer :: i
+    status = check_stiffness(par)
+    if (status /= BW_LAW_OK) return
+    do i = IFT, ITANPSI
+      if (.not. (par(i) >= 0 .and. finite(par(i)))) status = BW_LAW_BAD_STRENGTH
+    end do
+    if (.not. (par(ITANPSI) <= par(ITANPHI))) status = BW_LAW_BAD_STRENGTH
+    if (status /= BW_LAW_OK) return
+    law%kt = par(IKT)
+    law%kn = par(IKN)
+    law%tphi = par(ITANPHI)
+    law%tpsi = par(ITANPSI)
+    law%s0 = par([IFT, ICOH])
+    do i = 1, 2
+      if (.not. finite(par(IGFI + i - 1))) status = BW_LAW_BAD_STRENGTH
+      if (par(IGFI + i - 1) > 0 .and. law%s0(i) > 0) law%rate(i) = law%s0(i) / par(IGFI + i - 1)
+      if (.not. finite(law%rate(i))) status = BW_LAW_BAD_STRENGTH
+    end do
+    law%nv = reshape([ZERO, ONE, ONE, law%tphi, -ONE, law%tphi], [2, 3])
+    law%mv = reshape([ZERO, ONE, ONE, law%tpsi, -ONE, law%tpsi], [2, 3])
+    law%cm(1, :) = law%kt * law%mv(1, :)
+    law%cm(2, :) = law%kn * law%mv(2, :)
+  end subroutine make_law
+
+  pure function strength(law, k) result(s)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: k(2)
+    real(c_double) :: s(2)
+    s = law%s0 * exp(min(-law%rate * k, MAXEXP))
+  end function strength
+
+  pure function dstrength(law, k) result(ds)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: k(2)
+    real(c_double) :: ds(2)
+    ds = -law%rate * strength(law, k)
+  end function dstrength
+
+  ! (k1, k2) after the multipliers (dl1, dl2+, dl2-)
+  pure function advance(kin, dl) result(k)
+    real(c_double), intent(in) :: kin(2), dl(3)
+    real(c_double) :: k(2)
+    k = [kin(1) + dl(1), kin(2) + dl(2) + dl(3)]
+  end function advance
+
+  pure function surfaces(law, r, k) result(f)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: r(2), k(2)
+    real(c_double) :: f(3)
+    real(c_double) :: s(2)
+    s = strength(law, k)
+    f = matmul(r, law%nv) - s(KVAR)
+  end function surfaces
+
+  ! Admissible: multipliers of the set >= 0 and no surface violated; strict: the
+  ! surfaces outside the set are not touched either.
+  pure subroutine judge(law, sig, set, cand)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: sig
+    integer, intent(in) :: set(:)
+    type(candidate_t), intent(inout) :: cand
+    real(c_double) :: f(3)
+    integer :: b
+    f = surfaces(law, cand%r, cand%k)
+    cand%valid = all(cand%dl(set) * min(law%kt, law%kn) >= -ATOL * sig) .and. all(f <= ATOL * sig)
+    cand%strict = .true.
+    do b = 1, 3
+      if (all(set /= b) .and. .not. (f(b) < -ATOL * sig)) cand%strict = .false.
+    end do
+  end subroutine judge
+
+  ! Root x >= xmin >= 0 of the concave g(x) = g0 - nca x - s0 exp(-rate (k0 + x)),
+  ! nca > 0: a return on one surface whose strength softens (rate > 0), xmin the least
+  ! admissible multiplier. The frozen-strength return x0 = (g0 - s(k0)) / nca is the root
+  ! without softening. From lo = max(x0, xmin), where g >= 0 (for lo = x0 >= 0 because
+  ! the strength only decreases), to hi = max(g0 / nca, lo), where g = -s <= 0, the
+  ! root is bracketed and unique: Newton steps, bisecting when one leaves the bracket
+  ! (so that a local snap-back, g' > 0, cannot lose it). When g(lo) < 0 the surface is
+  ! not loaded on the admissible side and x0 is returned, for the active-set test to
+  ! reject.
+  pure subroutine scalar_root(g0, nca, s0, rate, k0, xmin, sig, x, ok)
+    real(c_double), intent(in) :: g0, nca, s0, rate, k0, xmin, sig
+    real(c_double), intent(out) :: x
+    logical, intent(out) :: ok
+    real(c_double) :: x0, lo, hi, g, dg, sx, xn
+    integer :: it
+    ok = .true.
+    x0 = (g0 - s0 * exp(min(-rate * k0, MAXEXP))) / nca
+    x = x0
+    if (.not. (rate > 0)) return
+    lo = max(x0, xmin)
+    if (g0 - nca * lo - s0 * exp(min(-rate * (k0 + lo), MAXEXP)) < 0) return
+    hi = max(g0 / nca, lo)
+    x = lo
+    do it = 1, MAXIT
+      sx = s0 * exp(min(-rate * (k0 + x), MAXEXP))
+      g = g0 - nca * x - sx
+      if (abs(g) <= RTOL * sig) return
+      if (g > 0) then
+        lo = x
+      else
+        hi = x
+      end if
+      if (hi - lo <= 4 * epsilon(x) * abs(hi)) return
+      dg = -nca + rate * sx
+      xn = lo
+      if (dg < 0) xn = x - g / dg
+      if (.not. (xn > lo .and. xn < hi)) xn = HALF * (lo + hi)
+      x = xn
+    end do
+    ok = .false.
+  end subroutine scalar_root
+
+  pure subroutine solve2(a, b, x, ok)
+    real(c_double), intent(in) :: a(2, 2), b(2)
+    real(c_double), intent(out) :: x(2)
+    logical, intent(out) :: ok
+    real(c_double) :: det
+    det = a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)
+    ok = abs(det) > 1.0e-12_c_double * (abs(a(1, 1) * a(2, 2)) + abs(a(1, 2) * a(2, 1)))
+    x = ZERO
+    if (ok) x = [a(2, 2) * b(1) - a(1, 2) * b(2), a(1, 1) * b(2) - a(2, 1) * b(1)] / det
+  end subroutine solve2
+
+  ! dr/dj = C - C M A^-1 N^T C for the set (one or two surfaces) at internal variables k.
+  pure subroutine consistent_tangent(law, set, k, t, ok)
+    type(law_t), intent(in) :: law
+    integer, intent(in) :: set(:)
+    real(c_double), intent(in) :: k(2)
+    real(c_double), intent(out) :: t(2, 2)
+    logical, intent(out) :: ok
+    real(c_double) :: a(2, 2), ainv(2, 2), nc(2, 2), ds(2), det
+    integer :: i, j, m
+    m = size(set)
+    ds = dstrength(law, k)
+    t = reshape([law%kt, ZERO, ZERO, law%kn], [2, 2])
+    a = ZERO
+    nc = ZERO
+    do i = 1, m
+      nc(i, :) = [law%kt * law%nv(1, set(i)), law%kn * law%nv(2, set(i))]
+      do j = 1, m
+        a(i, j) = dot_product(law%nv(:, set(i)), law%cm(:, set(j)))
+        if (KVAR(set(i)) == KVAR(set(j))) a(i, j) = a(i, j) + ds(KVAR(set(i)))
+      end do
+    end do
+    if (m == 1) then
+      ok = abs(a(1, 1)) > 0
+      if (ok) t = t - spread(law%cm(:, set(1)), 2, 2) * spread(nc(1, :), 1, 2) / a(1, 1)
+    else
+      det = a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)
+      ok = abs(det) > 0
+      if (.not. ok) return
+      ainv = reshape([a(2, 2), -a(2, 1), -a(1, 2), a(1, 1)], [2, 2]) / det
+      t = t - matmul(law%cm(:, set), matmul(ainv, nc))
+    end if
+  end subroutine consistent_tangent
+
+  pure function single_return(law, rtr, kin, sig, a) result(cand)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), kin(2), sig
+    integer, intent(in) :: a
+    type(candidate_t) :: cand
+    real(c_double) :: nca, g0, x, s(2), rn
+    integer :: i
+    logical :: ok
+    i = KVAR(a)
+    nca = dot_product(law%nv(:, a), law%cm(:, a)) ! kn, or kt + kn tanphi tanpsi
+    g0 = dot_product(law%nv(:, a), rtr)
+    call scalar_root(g0, nca, law%s0(i), law%rate(i), kin(i), ZERO, sig, x, ok)
+    if (.not. ok) then
+      cand%failed = .true.
+      return
+    end if
+    cand%dl(a) = x
+    cand%k = advance(kin, cand%dl)
+    s = strength(law, cand%k)
+    ! the stress placed on the surface itself, to round-off
+    if (a == 1) then
+      cand%r = [rtr(1), s(1)]
+    else
+      rn = rtr(2) - law%cm(2, a) * x
+      cand%r = [law%mv(1, a) * (s(2) - rn * law%tphi), rn]
+    end if
+    call consistent_tangent(law, [a], cand%k, cand%t, ok)
+    cand%failed = .not. ok
+    call judge(law, sig, [a], cand)
+  end function single_return
+
+  pure function unpack_pair(set, x) result(dl)
+    integer, intent(in) :: set(2)
+    real(c_double), intent(in) :: x(2)
+    real(c_double) :: dl(3)
+    dl = ZERO
+    dl(set) = x
+  end function unpack_pair
+
+  pure function pair_residual(law, rtr, kin, set, x) result(res)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), kin(2), x(2)
+    integer, intent(in) :: set(2)
+    real(c_double) :: res(2)
+    real(c_double) :: dl(3), f(3)
+    dl = unpack_pair(set, x)
+    f = surfaces(law, rtr - matmul(law%cm, dl), advance(kin, dl))
+    res = f(set)
+  end function pair_residual
+
+  ! dependent: the pair's gradients or flows are dependent, the set is skipped
+  pure subroutine pair_return(law, rtr, kin, sig, set, cand, dependent)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), kin(2), sig
+    integer, intent(in) :: set(2)
+    type(candidate_t), intent(out) :: cand
+    logical, intent(out) :: dependent
+    real(c_double) :: a0(2, 2), a(2, 2), x(2), step(2), trial(2), res(2), rtrial(2), ds(2), s(2), alpha, l, d
+    integer :: i, j, it, h
+    logical :: ok, converged
+    do j = 1, 2
+      do i = 1, 2
+        a0(i, j) = dot_product(law%nv(:, set(i)), law%cm(:, set(j)))
+      end do
+    end do
+    res = pair_residual(law, rtr, kin, set, [ZERO, ZERO])
+    call solve2(a0, res, x, ok)
+    dependent = .not. ok
+    if (dependent) return
+    if (set(1) == 2 .and. law%rate(2) > 0) then
+      ! apex: rt = 0 fixes d = dl2+ - dl2- = rt_tr / kt, and rn tanphi = c(k2 + l) is a
+      ! scalar equation in the sum l = dl2+ + dl2-, admissible from |d| on
+      d = rtr(1) / law%kt
+      call scalar_root(law%tphi * rtr(2), law%kn * law%tpsi * law%tphi, law%s0(2), law%rate(2), kin(2), abs(d), sig, l, ok)
+      x = HALF * [l + d, l - d]
+      if (.not. ok) then
+        cand%failed = .true.
+        return
+      end if
+    else if (set(1) == 1 .and. law%tpsi <= 0 .and. any(law%rate > 0)) then
+      ! corner without dilatancy: the cut-off's equation does not involve dl2, so two
+      ! scalar equations in turn, dl1 on the cut-off, then dl2 on the cone with rn = ft
+      call scalar_root(rtr(2), law%kn, law%s0(1), law%rate(1), kin(1), ZERO, sig, x(1), ok)
+      s = strength(law, [kin(1) + x(1), kin(2)])
+      call scalar_root(law%mv(1, set(2)) * rtr(1) + law%tphi * s(1), law%kt, law%s0(2), law%rate(2), kin(2), ZERO, &
+           sig, x(2), converged)
+      if (.not. (ok .and. converged)) then
+        cand%failed = .true.
+        return
+      end if
+    else if (any(law%rate(KVAR(set)) > 0)) then
+      converged = .false.
+      do it = 1, MAXIT
+        res = pair_residual(law, rtr, kin, set, x)
+        if (maxval(abs(res)) <= RTOL * sig) then
+          converged = .true.
+          exit
+        end if
+        ds = dstrength(law, advance(kin, unpack_pair(set, x)))
+        a = a0
+        do j = 1, 2
+          do i = 1, 2
+            if (KVAR(set(i)) == KVAR(set(j))) a(i, j) = a(i, j) + ds(KVAR(set(i)))
+          end do
+        end do
+        call solve2(a, res, step, ok)
+        if (.not. ok) exit
+        alpha = ONE
+        do h = 1, MAXHALVE
+          trial = x + alpha * step
+          rtrial = pair_residual(law, rtr, kin, set, trial)
+          if (norm2(rtrial) <= (ONE - 1.0e-4_c_double * alpha) * norm2(res)) exit
+          alpha = HALF * alpha
+        end do
+        if (h > MAXHALVE) then
+          ! no decrease left: accept only a residual at the round-off floor
+          converged = maxval(abs(res)) <= 100 * RTOL * sig
+          exit
+        end if
+        x = trial
+      end do
+      if (.not. converged) then
+        cand%failed = .true.
+        return
+      end if
+    end if
+    cand%dl = unpack_pair(set, x)
+    cand%k = advance(kin, cand%dl)
+    s = strength(law, cand%k)
+    ! the stress at the intersection of the two surfaces, to round-off
+    if (set(1) == 1) then
+      cand%r = [law%mv(1, set(2)) * (s(2) - s(1) * law%tphi), s(1)]
+    else
+      cand%r = [ZERO, s(2) / law%tphi]
+    end if
+    call consistent_tangent(law, set, cand%k, cand%t, ok)
+    cand%failed = .not. ok
+    call judge(law, sig, set, cand)
+  end subroutine pair_return
+
+  ! tanpsi = 0 above an apex that lies below the cut-off: the cut-off lowered to the apex.
+  pure function apex_cutoff_return(law, rtr, kin, sig) result(cand)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), kin(2), sig
+    type(candidate_t) :: cand
+    real(c_double) :: slip, s(2), ds(2)
+    if (.not. (law%tphi > 0)) return
+    slip = rtr(1) / law%kt
+    cand%dl(2:3) = [max(slip, ZERO), max(-slip, ZERO)]
+    s = strength(law, [kin(1), kin(2) + abs(slip)])
+    cand%r = [ZERO, s(2) / law%tphi]
+    cand%dl(1) = (rtr(2) - cand%r(2)) / law%kn
+    cand%k = advance(kin, cand%dl)
+    ds = dstrength(law, cand%k)
+    cand%t = ZERO
+    if (abs(slip) > 0) cand%t(2, 1) = sign(ONE, slip) * ds(2) / law%tphi
+    call judge(law, sig, [1, 2, 3], cand)
+  end function apex_cutoff_return
+
+  ! Outputs of an accepted candidate; the mode says which surfaces the stress lies on.
+  pure subroutine accept(law, kin, sig, jump, cand, lowered_cutoff, r, t, state_new, mode)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: kin(2), sig, jump(2)
+    type(candidate_t), intent(in) :: cand
+    logical, intent(in) :: lowered_cutoff
+    real(c_double), intent(out) :: r(2), t(2, 2), state_new(NSTATE)
+    integer(c_signed_char), intent(out) :: mode
+    real(c_double) :: f(3)
+    integer :: m
+    r = cand%r
+    t = cand%t
+    ! multipliers within round-off of zero count as zero: k never decreases
+    state_new(3:4) = advance(kin, max(cand%dl, ZERO))
+    state_new(1:2) = jump - [r(1) / law%kt, r(2) / law%kn]
+    f = surfaces(law, r, state_new(3:4))
+    m = 0
+    if (f(1) >= -ATOL * sig) m = 1
+    if (max(f(2), f(3)) >= -ATOL * sig) m = m + 2
+    if (lowered_cutoff) m = 3
+    mode = int(m, c_signed_char)
+  end subroutine accept
+
+  pure subroutine coulomb_portion(law, state, jump, r, t, state_new, mode, status)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: state(NSTATE), jump(2)
+    real(c_double), intent(out) :: r(2), t(2, 2), state_new(NSTATE)
+    integer(c_signed_char), intent(out) :: mode
+    integer(c_int), intent(out) :: status
+    type(candidate_t) :: cand, backup
+    real(c_double) :: rtr(2), kin(2), s(2), sig, ftr(3)
+    integer :: a, q
+    logical :: dependent, apex_dependent, have_backup
+
+    rtr = [law%kt * (jump(1) - state(1)), law%kn * (jump(2) - state(2))]
+    kin = state(3:4)
+    s = strength(law, kin)
+    sig = max(abs(rtr(1)), abs(rtr(2)) * max(ONE, law%tphi), s(1), s(2))
+    ftr = surfaces(law, rtr, kin)
+    status = BW_LAW_OK
+    if (all(ftr <= RTOL * sig)) then
+      r = rtr
+      t = reshape([law%kt, ZERO, ZERO, law%kn], [2, 2])
+      state_new = state
+      mode = 0_c_signed_char
+      return
+    end if
+
+    have_backup = .false.
+    do a = 1, 3
+      if (ftr(a) <= RTOL * sig) cycle
+      cand = single_return(law, rtr, kin, sig, a)
+      if (cand%failed .or. .not. cand%valid) cycle
+      if (cand%strict) then
+        call accept(law, kin, sig, jump, cand, .false., r, t, state_new, mode)
+        return
+      end if
+      if (.not. have_backup) backup = cand
+      have_backup = .true.
+    end do
+    apex_dependent = .false.
+    do q = 1, 3
+      call pair_return(law, rtr, kin, sig, PAIRS(:, q), cand, dependent)
+      if (q == 3) apex_dependent = dependent
+      if (dependent .or. cand%failed .or. .not. cand%valid) cycle
+      call accept(law, kin, sig, jump, cand, .false., r, t, state_new, mode)
+      return
+    end do
+    if (have_backup) then
+      call accept(law, kin, sig, jump, backup, .false., r, t, state_new, mode)
+      return
+    end if
+    if (apex_dependent) then
+      cand = apex_cutoff_return(law, rtr, kin, sig)
+      if (cand%valid) then
+        call accept(law, kin, sig, jump, cand, .true., r, t, state_new, mode)
+        return
+      end if
+    end if
+    ! no admissible set: a local solve failed (or, never met, none exists)
+    status = BW_LAW_NOT_CONVERGED
+    r = rtr
+    t = ZERO
+    state_new = state
+    mode = 0_c_signed_char
+  end subroutine coulomb_portion
+
+  !> Linear joint: r = C (j - jpl) with jpl from state_in, tangent C, state copied.
+  pure subroutine bw_law_elastic(n, par, state_in, jump, stress, tangent, state_out, mode, status) &
+       bind(C, name="bw_law_elastic")
+    integer(c_int), value, intent(in) :: n
+    real(c_double), intent(in) :: par(NPAR), state_in(NSTATE, n), jump(2, n)
+    real(c_double), intent(out) :: stress(2, n), tangent(4, n), state_out(NSTATE, n)
+    integer(c_signed_char), intent(out) :: mode(n)
+    integer(c_int), intent(out) :: status
+    integer(c_int) :: p
+    status = check_stiffness(par)
+    if (status /= BW_LAW_OK) return
+    do p = 1, n
+      status = check_portion(state_in(:, p), jump(:, p))
+      if (status /= BW_LAW_OK) return
+      stress(:, p) = [par(IKT) * (jump(1, p) - state_in(1, p)), par(IKN) * (jump(2, p) - state_in(2, p))]
+      tangent(:, p) = [par(IKT), ZERO, ZERO, par(IKN)]
+      state_out(:, p) = state_in(:, p)
+      mode(p) = 0_c_signed_char
+    end do
+  end subroutine bw_law_elastic
+
+  !> Tension cut-off and Coulomb friction with softening: the return mapping above.
+  pure subroutine bw_law_coulomb(n, par, state_in, jump, stress, tangent, state_out, mode, status) &
+       bind(C, name="bw_law_coulomb")
+    integer(c_int), value, intent(in) :: n
+    real(c_double), intent(in) :: par(NPAR), state_in(NSTATE, n), jump(2, n)
+    real(c_double), intent(out) :: stress(2, n), tangent(4, n), state_out(NSTATE, n)
+    integer(c_signed_char), intent(out) :: mode(n)
+    integer(c_int), intent(out) :: status
+    type(law_t) :: law
+    real(c_double) :: t(2, 2)
+    integer(c_int) :: p
+    call make_law(par, law, status)
+    if (status /= BW_LAW_OK) return
+    do p = 1, n
+      status = check_portion(state_in(:, p), jump(:, p))
+      if (status /= BW_LAW_OK) return
+      call coulomb_portion(law, state_in(:, p), jump(:, p), stress(:, p), t, state_out(:, p), mode(p), status)
+      tangent(:, p) = [t(1, 1), t(1, 2), t(2, 1), t(2, 2)]
+      if (status /= BW_LAW_OK) return
+    end do
+  end subroutine bw_law_coulomb
+
+end module bw_joint_law_kernels

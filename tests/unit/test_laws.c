@@ -1,0 +1,650 @@
+/* Per-portion joint laws (include/blockwall/laws.h) against closed forms and invariants:
+ *   elastic     bw_law_elastic and bw_law_coulomb inside the surfaces: r = C (j - jpl), tangent C
+ *   cutoff      perfectly plastic opening past ft/kn: rn = ft, opening = dn - ft/kn, mode 1
+ *   coulomb     perfectly plastic sliding under a fixed compressive dn, both signs, psi = 0, 0.2, phi:
+ *               rt = +-(c - rn tanphi), opening = tanpsi |slip|, rn = kn (dn - opening), mode 2
+ *   corner      trial = corner + C (a m1 + b m2): r at the corner, multipliers a, b recovered, mode 3
+ *   apex        the cone's apex (perfectly plastic and after c softened), and the lowered
+ *               cut-off of tanpsi = 0
+ *   notension   ft = c = 0 opened: r = 0 exactly, mode 3, zero tangent; closed: friction only
+ *   soft_mode1  opening in many steps: rn = ft(k1) and int rn d(opening) -> GfI (second order)
+ *   soft_mode2  sliding in many steps: rt + rn tanphi = c(k2) and int c d(slip) -> GfII
+ *   unload      from plastic states a smaller jump is elastic with C, state unchanged
+ *   tangent     consistent tangent against central differences of the kernel, every regime
+ *   property    10^4 random trials and states: admissible stress, multipliers >= 0, k non-decreasing
+ *   bad         statuses of bad parameters, jumps and states */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include "blockwall/laws.h"
+
+static int failures = 0;
+
+#define CHECK(cond, ...) \
+  do { \
+    if (!(cond)) { \
+      failures++; \
+      printf("FAIL %s:%d: ", __FILE__, __LINE__); \
+      printf(__VA_ARGS__); \
+      printf("\n"); \
+    } \
+  } while (0)
+
+static void expect_close(const char *what, double got, double want, double tol, double scale)
+{
+  double err = fabs(got - want) / (scale > 0 ? scale : 1);
+  if (!(err <= tol)) {
+    printf("FAIL %s: got %.17g, want %.17g (relative error %.3e > %.1e)\n", what, got, want, err, tol);
+    failures++;
+  }
+}
+
+enum { SLIP = BW_LAW_STATE_SLIP, OPEN = BW_LAW_STATE_OPENING, K1 = BW_LAW_STATE_K1, K2 = BW_LAW_STATE_K2 };
+
+static const double KT = 4e10, KN = 1e11; /* [N/m^3]: E = 1 GPa over a 10 mm joint */
+
+typedef struct {
+  double      r[2], T[4], s[BW_LAW_NSTATE];
+  signed char mode;
+  int         status;
+} Ret;
+
+static Ret law(const double par[], const double s_in[], double dt, double dn)
+{
+  Ret    o;
+  double j[2] = {dt, dn};
+  memset(&o, 0, sizeof(o));
+  bw_law_coulomb(1, par, s_in, j, o.r, o.T, o.s, &o.mode, &o.status);
+  return o;
+}
+
+static void set_par(double par[], double ft, double c, double tphi, double tpsi, double gfI, double gfII)
+{
+  par[BW_LAW_PAR_KT]     = KT;
+  par[BW_LAW_PAR_KN]     = KN;
+  par[BW_LAW_PAR_FT]     = ft;
+  par[BW_LAW_PAR_C]      = c;
+  par[BW_LAW_PAR_TANPHI] = tphi;
+  par[BW_LAW_PAR_TANPSI] = tpsi;
+  par[BW_LAW_PAR_GFI]    = gfI;
+  par[BW_LAW_PAR_GFII]   = gfII;
+}
+
+static double strength(double s0, double gf, double k) { return gf > 0 ? s0 * exp(-s0 * k / gf) : s0; }
+
+/* f1, f2+, f2- at stress r and internal variables (k1, k2) of state s */
+static void surfaces(const double par[], const double r[2], const double s[], double f[3])
+{
+  double ft = strength(par[BW_LAW_PAR_FT], par[BW_LAW_PAR_GFI], s[K1]);
+  double c  = strength(par[BW_LAW_PAR_C], par[BW_LAW_PAR_GFII], s[K2]);
+  double tp = par[BW_LAW_PAR_TANPHI];
+  f[0]      = r[1] - ft;
+  f[1]      = r[0] + r[1] * tp - c;
+  f[2]      = -r[0] + r[1] * tp - c;
+}
+
+static double maxabs4(const double t[4])
+{
+  double m = 0;
+  for (int i = 0; i < 4; i++) m = fmax(m, fabs(t[i]));
+  return m;
+}
+
+static void test_elastic(void)
+{
+  /* Same floating-point operations as the kernels: 1e-15 relative is round-off. */
+  double       par[BW_LAW_NPAR], r[6], T[12], s_out[12];
+  signed char  mode[3];
+  int          st;
+  const double s_in[12] = {1e-5, 2e-5, 3e-5, 4e-5, -2e-5, 0, 0, 1e-4, 0, 0, 0, 0};
+  const double j[6]     = {1.5e-5, 1e-5, -3e-5, 2e-6, 7e-7, -4e-7};
+  set_par(par, 2e5, 3e5, 0.75, 0.2, 12, 50);
+  bw_law_elastic(3, par, s_in, j, r, T, s_out, mode, &st);
+  CHECK(st == BW_LAW_OK, "elastic status %d", st);
+  for (int p = 0; p < 3; p++) {
+    expect_close("elastic rt", r[2 * p], KT * (j[2 * p] - s_in[4 * p + SLIP]), 1e-15, KT * fabs(j[2 * p] - s_in[4 * p]));
+    expect_close("elastic rn", r[2 * p + 1], KN * (j[2 * p + 1] - s_in[4 * p + OPEN]), 1e-15, KN * fabs(j[2 * p + 1] - s_in[4 * p + 1]));
+    CHECK(T[4 * p] == KT && T[4 * p + 1] == 0 && T[4 * p + 2] == 0 && T[4 * p + 3] == KN, "elastic tangent of portion %d", p);
+    CHECK(!memcmp(s_in + 4 * p, s_out + 4 * p, 4 * sizeof(double)) && mode[p] == 0, "elastic state of portion %d", p);
+  }
+  /* the plastic law inside its surfaces (intact, and softened with a plastic jump) */
+  for (int p = 0; p < 3; p += 2) {
+    Ret o = law(par, s_in + 4 * p, j[2 * p] * 0.1 + s_in[4 * p], j[2 * p + 1] * 0.1 + s_in[4 * p + 1]);
+    CHECK(o.status == 0 && o.mode == 0, "coulomb inside: status %d mode %d", o.status, o.mode);
+    expect_close("coulomb inside rt", o.r[0], KT * (j[2 * p] * 0.1 + s_in[4 * p] - s_in[4 * p]), 1e-15, fabs(o.r[0]));
+    expect_close("coulomb inside rn", o.r[1], KN * (j[2 * p + 1] * 0.1 + s_in[4 * p + 1] - s_in[4 * p + 1]), 1e-15, fabs(o.r[1]));
+    CHECK(o.T[0] == KT && o.T[1] == 0 && o.T[2] == 0 && o.T[3] == KN, "coulomb inside: tangent not C");
+    CHECK(!memcmp(o.s, s_in + 4 * p, sizeof(o.s)), "coulomb inside: state changed");
+  }
+}
+
+static void test_cutoff(void)
+{
+  /* Perfectly plastic cut-off; rt = kt dt keeps the cone inactive (|rt| + ft tanphi < c).
+   * rn = ft is set, opening = dn - rn/kn one subtraction: 1e-15 of the jump; k1 sums the
+   * multipliers of 20 steps: 1e-13. */
+  double       par[BW_LAW_NPAR], s[BW_LAW_NSTATE] = {0, 0, 0, 0};
+  const double ft = 2e5, dt = 1e-6;
+  set_par(par, ft, 3e5, 0.75, 0.2, 0, 0);
+  for (int i = 0; i <= 20; i++) {
+    double dn = i * 10 * ft / KN / 20;
+    Ret    o  = law(par, s, dt, dn);
+    CHECK(o.status == 0, "cutoff status %d", o.status);
+    expect_close("cutoff rt = kt dt", o.r[0], KT * dt, 1e-15, KT * dt);
+    if (dn <= ft / KN * (1 + 1e-12)) { /* step 2 is the elastic limit itself, up to rounding */
+      CHECK(o.mode == 0, "cutoff: step %d below ft/kn has mode %d", i, o.mode);
+      expect_close("cutoff elastic rn", o.r[1], KN * dn, 1e-15, ft);
+    } else {
+      CHECK(o.mode == 1, "cutoff: step %d has mode %d", i, o.mode);
+      expect_close("cutoff rn = ft", o.r[1], ft, 1e-15, ft);
+      expect_close("cutoff opening = dn - ft/kn", o.s[OPEN], dn - ft / KN, 1e-15, dn);
+      expect_close("cutoff k1 = opening", o.s[K1], o.s[OPEN], 1e-13, dn);
+      CHECK(o.s[SLIP] == 0 && o.s[K2] == 0, "cutoff: slip %g k2 %g", o.s[SLIP], o.s[K2]);
+      CHECK(o.T[0] == KT && o.T[1] == 0 && o.T[2] == 0 && fabs(o.T[3]) <= 1e-15 * KN, "cutoff tangent (%g %g %g %g)", o.T[0], o.T[1], o.T[2], o.T[3]);
+    }
+    memcpy(s, o.s, sizeof(s));
+  }
+}
+
+static void test_coulomb(void)
+{
+  /* Perfectly plastic sliding at fixed dn = -2e-5 (rn = -2 MPa before dilatancy), dt in 30
+   * steps to +-3e-4. Stresses on the surface to round-off (1e-14 of c - rn tanphi); the path's
+   * sums of multipliers to 1e-12. The final state against the one-step closed form
+   * slip = (kt |dt| + kn dn tanphi - c) / (kt + kn tanphi tanpsi) (a linear surface with a
+   * constant flow: backward Euler is exact and path-independent under monotonic loading). */
+  const double c = 3e5, tphi = 0.75, dn = -2e-5, tpsis[3] = {0, 0.2, 0.75};
+  for (int q = 0; q < 3; q++)
+    for (int sgn = -1; sgn <= 1; sgn += 2) {
+      double par[BW_LAW_NPAR], s[BW_LAW_NSTATE] = {0, 0, 0, 0}, tpsi = tpsis[q], dt = 0;
+      Ret    o;
+      set_par(par, 2e5, c, tphi, tpsi, 0, 0);
+      for (int i = 0; i <= 30; i++) {
+        dt = sgn * i * 3e-4 / 30;
+        o  = law(par, s, dt, dn);
+        CHECK(o.status == 0, "coulomb status %d", o.status);
+        if (KT * fabs(dt) <= c - KN * dn * tphi) {
+          CHECK(o.mode == 0, "coulomb: elastic step %d has mode %d", i, o.mode);
+        } else {
+          double scale = c - o.r[1] * tphi;
+          CHECK(o.mode == 2, "coulomb psi %g sign %d step %d: mode %d", tpsi, sgn, i, o.mode);
+          CHECK(o.r[1] < 0, "coulomb: rn = %g not compressive", o.r[1]);
+          expect_close("coulomb rt = +-(c - rn tanphi)", o.r[0], sgn * (c - o.r[1] * tphi), 1e-14, scale);
+          expect_close("coulomb slip = dt - rt/kt", o.s[SLIP], dt - o.r[0] / KT, 1e-14, fabs(dt));
+          expect_close("coulomb opening = tanpsi |slip|", o.s[OPEN], tpsi * fabs(o.s[SLIP]), 1e-12, fabs(o.s[SLIP]));
+          expect_close("coulomb rn = kn (dn - opening)", o.r[1], KN * (dn - o.s[OPEN]), 1e-14, fabs(o.r[1]));
+          expect_close("coulomb k2 = |slip|", o.s[K2], fabs(o.s[SLIP]), 1e-12, fabs(o.s[SLIP]));
+          CHECK(o.s[K1] == 0, "coulomb: k1 = %g", o.s[K1]);
+        }
+        memcpy(s, o.s, sizeof(s));
+      }
+      expect_close("coulomb slip, closed form", o.s[SLIP], sgn * (KT * fabs(dt) + KN * dn * tphi - c) / (KT + KN * tphi * tpsi), 1e-12, fabs(dt));
+    }
+}
+
+static void test_corner(void)
+{
+  /* Trial = corner + C (a m1 + b m2+-) with a = 2e-5, b = 1e-5: the return is the corner
+   * (rn = ft, rt = +-(c - ft tanphi)) with multipliers (a, b) >= 0, recovered from k1, k2
+   * to 1e-12 (differences of jumps of 1e-5). Perfectly plastic: the tangent is zero to
+   * round-off (1e-12 kn). */
+  const double ft = 2e5, c = 3e5, tphi = 0.75, a = 2e-5, b = 1e-5, tpsis[3] = {0, 0.2, 0.75};
+  for (int q = 0; q < 3; q++)
+    for (int sgn = -1; sgn <= 1; sgn += 2) {
+      double par[BW_LAW_NPAR], s0[BW_LAW_NSTATE] = {0, 0, 0, 0}, f[3], tpsi = tpsis[q];
+      double rtc = sgn * (c - ft * tphi);
+      set_par(par, ft, c, tphi, tpsi, 0, 0);
+      Ret o = law(par, s0, rtc / KT + sgn * b, ft / KN + a + tpsi * b);
+      CHECK(o.status == 0 && o.mode == 3, "corner psi %g sign %d: status %d mode %d", tpsi, sgn, o.status, o.mode);
+      expect_close("corner rn", o.r[1], ft, 1e-15, ft);
+      expect_close("corner rt", o.r[0], rtc, 1e-15, c);
+      surfaces(par, o.r, o.s, f);
+      CHECK(fabs(f[0]) <= 1e-15 * c && fabs(f[sgn > 0 ? 1 : 2]) <= 1e-15 * c && f[sgn > 0 ? 2 : 1] < 0, "corner surfaces %g %g %g", f[0], f[1], f[2]);
+      expect_close("corner multiplier dl1 = a", o.s[K1], a, 1e-12, a);
+      expect_close("corner multiplier dl2 = b", o.s[K2], b, 1e-12, b);
+      CHECK(o.s[K1] >= 0 && o.s[K2] >= 0, "corner: negative multiplier");
+      expect_close("corner slip", o.s[SLIP], sgn * b, 1e-12, b);
+      expect_close("corner opening = a + tanpsi b", o.s[OPEN], a + tpsi * b, 1e-12, a);
+      CHECK(maxabs4(o.T) <= 1e-12 * KN, "corner tangent not zero: %g", maxabs4(o.T));
+    }
+}
+
+static void test_apex(void)
+{
+  const double tphi = 0.75;
+  double       par[BW_LAW_NPAR], f[3];
+  /* 1. Perfectly plastic, apex rn = c/tanphi = 2e5 below ft = 5e5: trial = apex + C (a m2+ + b m2-),
+   *    a = 3e-5, b = 1e-5: r = apex, f2+ = f2- = 0, multipliers from k2 = a + b and slip = a - b,
+   *    mode 2, zero tangent. */
+  for (int q = 0; q < 2; q++) {
+    double tpsi = q ? 0.75 : 0.2, a = 3e-5, b = 1e-5, s0[BW_LAW_NSTATE] = {0, 0, 0, 0};
+    set_par(par, 5e5, 1.5e5, tphi, tpsi, 0, 0);
+    Ret o = law(par, s0, a - b, 2e5 / KN + tpsi * (a + b));
+    CHECK(o.status == 0 && o.mode == 2, "apex psi %g: status %d mode %d", tpsi, o.status, o.mode);
+    CHECK(o.r[0] == 0, "apex rt = %g", o.r[0]);
+    expect_close("apex rn = c/tanphi", o.r[1], 2e5, 1e-15, 2e5);
+    surfaces(par, o.r, o.s, f);
+    CHECK(fabs(f[1]) <= 1e-15 * 2e5 && fabs(f[2]) <= 1e-15 * 2e5 && f[0] < 0, "apex surfaces %g %g %g", f[0], f[1], f[2]);
+    expect_close("apex dl2+ = (k2 + slip)/2", 0.5 * (o.s[K2] + o.s[SLIP]), a, 1e-12, a);
+    expect_close("apex dl2- = (k2 - slip)/2", 0.5 * (o.s[K2] - o.s[SLIP]), b, 1e-12, a);
+    expect_close("apex opening = tanpsi k2", o.s[OPEN], tpsi * (a + b), 1e-12, a);
+    CHECK(o.s[K1] == 0 && maxabs4(o.T) <= 1e-12 * KN, "apex: k1 %g, tangent %g", o.s[K1], maxabs4(o.T));
+  }
+  /* 2. After c softened (k2 = 5e-4: c = 3e5 e^-3, apex 2.0e4 below ft = 2e5), pure opening
+   *    dn = 1e-4: rt = 0, rn = c(k2)/tanphi, the opening is dilatancy of the apex return,
+   *    mode 2. rn is set from the returned k2 (1e-14); the multiplier sum from the Newton
+   *    (residual 1e-14 of the 1e7 Pa trial stress over kn: 1e-12 of the opening). */
+  {
+    double s[BW_LAW_NSTATE] = {1e-5, 0, 0, 5e-4}, tpsi = 0.2;
+    set_par(par, 2e5, 3e5, tphi, tpsi, 12, 50);
+    Ret o = law(par, s, 1e-5, 1e-4);
+    CHECK(o.status == 0 && o.mode == 2, "softened apex: status %d mode %d", o.status, o.mode);
+    CHECK(o.r[0] == 0, "softened apex rt = %g", o.r[0]);
+    expect_close("softened apex rn = c(k2)/tanphi", o.r[1], strength(3e5, 50, o.s[K2]) / tphi, 1e-14, o.r[1]);
+    CHECK(o.s[K2] > s[K2] && o.s[K1] == 0, "softened apex: k1 %g k2 %g", o.s[K1], o.s[K2]);
+    expect_close("softened apex: no slip", o.s[SLIP], s[SLIP], 1e-15, 1e-5);
+    expect_close("softened apex: opening = tanpsi dk2", o.s[OPEN], tpsi * (o.s[K2] - s[K2]), 1e-12, o.s[OPEN]);
+    surfaces(par, o.r, o.s, f);
+    CHECK(fabs(f[1]) <= 1e-14 * 3e5 && fabs(f[2]) <= 1e-14 * 3e5 && f[0] < 0, "softened apex surfaces %g %g %g", f[0], f[1], f[2]);
+  }
+  /* 3. tanpsi = 0: the cone has no normal flow, so a trial above an apex lying below the
+   *    cut-off returns with the cut-off lowered to the apex: r = (0, c/tanphi), slip and
+   *    opening the trial's excess, k1 = opening, k2 = |slip|, mode 3. Perfectly plastic
+   *    and with c softening (k2 = |slip| softens the apex: rn = c(k2)/tanphi). */
+  for (int soft = 0; soft < 2; soft++) {
+    double s0[BW_LAW_NSTATE] = {0, 0, 0, 0}, sl = -2e-5, op = 3e-5;
+    set_par(par, 5e5, 1.5e5, tphi, 0, 0, soft ? 50 : 0);
+    Ret    o    = law(par, s0, sl, 2e5 / KN + op);
+    double apex = strength(1.5e5, soft ? 50 : 0, fabs(sl)) / tphi;
+    CHECK(o.status == 0 && o.mode == 3, "lowered cut-off: status %d mode %d", o.status, o.mode);
+    CHECK(o.r[0] == 0, "lowered cut-off rt = %g", o.r[0]);
+    expect_close("lowered cut-off rn = c(k2)/tanphi", o.r[1], apex, 1e-15, apex);
+    expect_close("lowered cut-off slip", o.s[SLIP], sl, 1e-15, op);
+    expect_close("lowered cut-off opening", o.s[OPEN], 2e5 / KN + op - apex / KN, 1e-14, op);
+    expect_close("lowered cut-off k1 = opening", o.s[K1], o.s[OPEN], 1e-14, op);
+    expect_close("lowered cut-off k2 = |slip|", o.s[K2], fabs(sl), 1e-15, op);
+    if (!soft) {
+      /* continuous with the sliding return just below the apex level (0.01 Pa below) */
+      Ret u = law(par, s0, sl, 2e5 / KN - 1e-13);
+      CHECK(u.mode == 2 && fabs(u.r[0] - o.r[0]) <= 0.02 && fabs(u.r[1] - o.r[1]) <= 0.02,
+            "lowered cut-off not continuous with sliding below the apex: (%g %g) vs (%g %g)", u.r[0], u.r[1], o.r[0], o.r[1]);
+    }
+  }
+}
+
+static void test_notension(void)
+{
+  /* ft = c = 0: opened (dn > 0, |dt| <= dn / tanpsi) the stress is exactly zero, jpl = j,
+   * mode 3, zero tangent, and the plastic jump splits into k1 + tanpsi k2 = opening,
+   * k2 = |slip|. Closed and sliding: rt = -rn tanphi. */
+  const double tphi = 0.7, tpsis[3] = {0, 0.3, 0.7};
+  for (int q = 0; q < 3; q++)
+    for (int soft = 0; soft < 2; soft++)
+      for (int sgn = -1; sgn <= 1; sgn += 2) {
+        double par[BW_LAW_NPAR], tpsi = tpsis[q], s[BW_LAW_NSTATE] = {3e-6, 1e-6, 1e-6, 5e-6};
+        double dt = sgn * 2e-5, dn = 1e-4;
+        set_par(par, 0, 0, tphi, tpsi, soft ? 12 : 0, soft ? 50 : 0);
+        Ret o = law(par, s, dt, dn);
+        CHECK(o.status == 0 && o.mode == 3, "no-tension open psi %g: status %d mode %d", tpsi, o.status, o.mode);
+        CHECK(o.r[0] == 0 && o.r[1] == 0, "no-tension open: r = (%g %g)", o.r[0], o.r[1]);
+        CHECK(o.s[SLIP] == dt && o.s[OPEN] == dn, "no-tension open: jpl = (%g %g)", o.s[SLIP], o.s[OPEN]);
+        CHECK(maxabs4(o.T) <= 1e-12 * KN, "no-tension open: tangent %g", maxabs4(o.T));
+        expect_close("no-tension k2 = |d slip|", o.s[K2] - s[K2], fabs(dt - s[SLIP]), 1e-12, fabs(dt));
+        expect_close("no-tension k1 + tanpsi k2 = d opening", o.s[K1] - s[K1] + tpsi * (o.s[K2] - s[K2]), dn - s[OPEN], 1e-12, dn);
+        /* closed, sliding: rn = kn (dn - opening) < 0 */
+        o = law(par, s, s[SLIP] + sgn * 1e-4, s[OPEN] - 1e-5);
+        CHECK(o.status == 0 && o.mode == 2, "no-tension sliding: status %d mode %d", o.status, o.mode);
+        expect_close("no-tension sliding rt = -rn tanphi", o.r[0], -sgn * o.r[1] * tphi, 1e-14, fabs(o.r[0]));
+      }
+}
+
+/* Opening (mode I) or sliding at fixed compression (mode II) in n steps of the jump over
+ * 30 characteristic lengths l = Gf/s0 past the elastic limit. Returns the dissipated
+ * softening energy by the trapezoidal rule over the plastic jump, and by backward Euler's
+ * own sum (end-of-step stress), both relative to Gf; *hmax = largest step of k over l. */
+static void soften(int mode2, int n, double *err_trap, double *err_be, double *hmax)
+{
+  const double ft = 2e5, c = 3e5, tphi = 0.75, gfI = 12, gfII = 50, dn2 = -1e-5;
+  double       par[BW_LAW_NPAR], s[BW_LAW_NSTATE] = {0, 0, 0, 0};
+  const double s0 = mode2 ? c : ft, gf = mode2 ? gfII : gfI, l = gf / s0;
+  /* the elastic limit as the first point: there the stress is s0 and no plastic jump */
+  const double j0 = mode2 ? (c - KN * dn2 * tphi) / KT : ft / KN, h = 30 * l / n;
+  double       prev = s0, e_trap = 0, e_be = 0;
+  set_par(par, ft, c, tphi, 0, gfI, gfII);
+  *hmax = 0;
+  for (int i = 1; i <= n; i++) {
+    Ret    o    = mode2 ? law(par, s, j0 + i * h, dn2) : law(par, s, 0, j0 + i * h);
+    int    kv   = mode2 ? K2 : K1, jv = mode2 ? SLIP : OPEN;
+    double k    = o.s[kv], dk = o.s[kv] - s[kv], djpl = o.s[jv] - s[jv];
+    double want = s0 * exp(-s0 * k / gf);
+    /* the softening part of the stress: rn, or rt + rn tanphi (= c(k2)) */
+    double sig = mode2 ? o.r[0] + o.r[1] * tphi : o.r[1];
+    CHECK(o.status == 0 && o.mode == (mode2 ? 2 : 1), "softening mode %d step %d: status %d mode %d", mode2 + 1, i, o.status, o.mode);
+    /* The stress is set from the returned k: rn to 1e-12 of ft(k1) itself. In mode II rt =
+     * c(k2) - rn tanphi, with c(k2) down to 1e-13 of the friction part rn tanphi (7.5e5 Pa):
+     * rt to 1e-14 of |rt| (c(k2) alone would only be recovered to eps |rn tanphi|). */
+    if (mode2)
+      expect_close("rt = c0 exp(-c0 k2/GfII) - rn tanphi", o.r[0], want - o.r[1] * tphi, 1e-14, fabs(o.r[0]));
+    else
+      expect_close("rn = ft0 exp(-ft0 k1/GfI)", o.r[1], want, 1e-12, want);
+    /* d jpl = dk up to the local Newton's residual, 1e-14 of the trial stress (~1e6 Pa) over
+     * the stiffness: ~1e-19 m against steps of 6e-6 m */
+    expect_close("plastic jump = k increment", djpl, dk, 1e-12, h);
+    if (mode2) expect_close("mode II: rn fixed", o.r[1], KN * dn2, 1e-15, KN * fabs(dn2));
+    e_trap += 0.5 * (prev + sig) * djpl;
+    e_be += sig * djpl;
+    *hmax = fmax(*hmax, dk / l);
+    prev = sig;
+    memcpy(s, o.s, sizeof(s));
+  }
+  *err_trap = fabs(e_trap - gf) / gf;
+  *err_be   = fabs(e_be - gf) / gf;
+}
+
+static void test_softening(int mode2)
+{
+  /* The trapezoidal rule on s0 exp(-k/l) with steps h has relative error (h/l)^2/12 (plus the
+   * tail exp(-30) = 1e-13): we accept 1.2 (hmax/l)^2/12 and ask the error to fall by 4 +- 10%
+   * when the steps halve (second order: the kernel puts every state on the exact curve).
+   * Backward Euler's own dissipation sum is first order (error ~ h/(2l)): printed, and
+   * asked to halve. */
+  double et1, eb1, h1, et2, eb2, h2;
+  soften(mode2, 300, &et1, &eb1, &h1);
+  soften(mode2, 600, &et2, &eb2, &h2);
+  printf("mode %s: energy error trapezoid %.3e -> %.3e (ratio %.2f), backward Euler %.3e -> %.3e (ratio %.2f), hmax/l %.3f\n",
+         mode2 ? "II" : "I", et1, et2, et1 / et2, eb1, eb2, eb1 / eb2, h1);
+  CHECK(et1 <= 1.2 * h1 * h1 / 12 + 1e-12 && et2 <= 1.2 * h2 * h2 / 12 + 1e-12, "energy error above (h/l)^2/12");
+  CHECK(fabs(et1 / et2 - 4) <= 0.4, "trapezoid energy not second order: ratio %g", et1 / et2);
+  CHECK(fabs(eb1 / eb2 - 2) <= 0.2, "backward Euler energy not first order: ratio %g", eb1 / eb2);
+}
+
+static void test_unload(void)
+{
+  /* From plastic states (sliding with cohesion softening and dilatancy; opening with tension
+   * softening), a smaller jump is elastic: r = C (j - jpl) with the initial C, state bitwise
+   * unchanged, mode 0. Reloading to the plastic point is elastic again (its trial stress is
+   * the returned one to round-off), and loading past it continues as if never unloaded. */
+  double par[BW_LAW_NPAR];
+  set_par(par, 2e5, 3e5, 0.75, 0.2, 12, 50);
+  for (int open = 0; open < 2; open++) {
+    double s[BW_LAW_NSTATE] = {0, 0, 0, 0}, dn = open ? 0 : -2e-5, dt = open ? 1e-6 : 0;
+    Ret    o;
+    for (int i = 1; i <= 10; i++) {
+      if (open)
+        dn = i * 3e-5;
+      else
+        dt = i * 2e-5;
+      o = law(par, s, dt, dn);
+      CHECK(o.status == 0, "unload: loading step %d status %d", i, o.status);
+      memcpy(s, o.s, sizeof(s));
+    }
+    CHECK(o.mode == (open ? 1 : 2), "unload: the last loading step has mode %d", o.mode);
+    Ret    top = o;
+    double dtu = open ? dt : 0.8 * dt, dnu = open ? 0.9 * dn : dn;
+    Ret    u   = law(par, s, dtu, dnu);
+    CHECK(u.status == 0 && u.mode == 0, "unload: mode %d", u.mode);
+    CHECK(!memcmp(u.s, s, sizeof(s)), "unload: state changed");
+    expect_close("unload rt = kt (dt - slip)", u.r[0], KT * (dtu - s[SLIP]), 1e-15, fabs(u.r[0]) + 1);
+    expect_close("unload rn = kn (dn - opening)", u.r[1], KN * (dnu - s[OPEN]), 1e-15, fabs(u.r[1]) + 1);
+    CHECK(u.T[0] == KT && u.T[1] == 0 && u.T[2] == 0 && u.T[3] == KN, "unload tangent not C");
+    Ret back = law(par, u.s, dt, dn);
+    CHECK(back.mode == 0 && !memcmp(back.s, s, sizeof(s)), "reload to the plastic point: mode %d", back.mode);
+    /* the stored jpl = j - r/C is rounded: eps of C j (3e7 Pa here), not of r (1e3 Pa) */
+    expect_close("reload rt", back.r[0], top.r[0], 1e-15, KT * fabs(dt) + KN * fabs(dn));
+    expect_close("reload rn", back.r[1], top.r[1], 1e-15, KT * fabs(dt) + KN * fabs(dn));
+    Ret on = law(par, back.s, open ? dt : 1.1 * dt, open ? 1.1 * dn : dn), direct = law(par, s, open ? dt : 1.1 * dt, open ? 1.1 * dn : dn);
+    CHECK(on.mode == (open ? 1 : 2) && !memcmp(on.s, direct.s, sizeof(s)) && !memcmp(on.r, direct.r, sizeof(on.r)), "reload past the plastic point differs");
+  }
+}
+
+/* Central differences of the kernel: step h = 1e-6 of the jump. Errors relative to
+ * max(kt, kn): round-off eps |r| / h ~ 1e-10, the local Newton's residual 1e-14 |r_tr| / h
+ * ~ 1e-8, truncation (h / l)^2 ~ 1e-12 (l = Gf / s0 >= 6e-5 m, jumps <= 1e-3 m). We accept
+ * 1e-6: a softening term of the tangent (>= 1e-3 kn here) is then checked to 1e-3 or better.
+ * The mode is checked at the point and both perturbations: no region boundary is crossed. */
+static double fd_check(const char *name, const double par[], const double s[], double dt, double dn, int want_mode, double *asym)
+{
+  Ret    o = law(par, s, dt, dn);
+  double h = 1e-6 * fmax(fmax(fabs(dt), fabs(dn)), 1e-6), err = 0, fd[4];
+  CHECK(o.status == 0 && o.mode == want_mode, "tangent %s: status %d mode %d (want %d)", name, o.status, o.mode, want_mode);
+  for (int c = 0; c < 2; c++) {
+    Ret p = law(par, s, dt + (c == 0) * h, dn + (c == 1) * h), m = law(par, s, dt - (c == 0) * h, dn - (c == 1) * h);
+    CHECK(p.mode == want_mode && m.mode == want_mode, "tangent %s: perturbation changes the mode (%d %d)", name, p.mode, m.mode);
+    for (int row = 0; row < 2; row++) fd[2 * row + c] = (p.r[row] - m.r[row]) / (2 * h);
+  }
+  for (int i = 0; i < 4; i++) err = fmax(err, fabs(fd[i] - o.T[i]) / KN);
+  *asym = fabs(o.T[1] - o.T[2]) / KN;
+  printf("tangent %-34s mode %d  T/kn = [%+.6e %+.6e; %+.6e %+.6e]  |T - T_fd|/kn = %.2e\n", name, o.mode, o.T[0] / KN, o.T[1] / KN, o.T[2] / KN,
+         o.T[3] / KN, err);
+  CHECK(err <= 1e-6, "tangent %s: error %.3e", name, err);
+  return err;
+}
+
+static void test_tangent(void)
+{
+  const double ft = 2e5, c = 3e5, tphi = 0.75;
+  double       par[BW_LAW_NPAR], asym, worst = 0;
+  struct {
+    const char *name;
+    double      ft, c, tphi, tpsi, gfI, gfII, s[4], dt, dn;
+    int         mode;
+    int         symmetric; /* 1: tangent symmetric (psi = phi), 0: not (psi != phi), -1: either */
+  } cases[] = {
+    {"elastic", ft, c, tphi, 0.2, 12, 50, {0, 0, 0, 0}, 1e-6, -1e-6, 0, 1},
+    {"cut-off", ft, c, tphi, 0.2, 0, 0, {0, 0, 0, 0}, 1e-6, 1e-5, 1, 1},
+    {"cut-off softening", ft, c, tphi, 0.2, 12, 50, {0, 1e-4, 1e-4, 0}, 1e-6, 1.1e-4, 1, 1},
+    {"cut-off softening psi=phi", ft, c, tphi, tphi, 12, 50, {2e-6, 1e-4, 1e-4, 0}, -1e-6, 1.3e-4, 1, 1},
+    {"Coulomb+ psi=0.2", ft, c, tphi, 0.2, 0, 0, {0, 0, 0, 0}, 2e-4, -2e-5, 2, 0},
+    {"Coulomb- psi=0.2", ft, c, tphi, 0.2, 0, 0, {0, 0, 0, 0}, -2e-4, -2e-5, 2, 0},
+    {"Coulomb+ psi=0", ft, c, tphi, 0, 0, 0, {0, 0, 0, 0}, 2e-4, -2e-5, 2, 0},
+    {"Coulomb- psi=phi", ft, c, tphi, tphi, 0, 0, {0, 0, 0, 0}, -2e-4, -2e-5, 2, 1},
+    {"Coulomb+ softening psi=0.2", ft, c, tphi, 0.2, 12, 50, {1e-4, 2e-5, 0, 1e-4}, 2.5e-4, -2e-5, 2, 0},
+    {"Coulomb- softening psi=phi", ft, c, tphi, tphi, 12, 50, {-1e-4, 7.5e-5, 0, 1e-4}, -2.5e-4, 5e-5, 2, 1},
+    {"Coulomb+ softening psi=0", ft, c, tphi, 0, 12, 50, {1e-4, 0, 0, 1e-4}, 2.5e-4, -2e-5, 2, 0},
+    {"Tresca (tanphi=0) softening", ft, c, 0, 0, 12, 50, {0, 0, 0, 1e-4}, 1e-4, -1e-5, 2, 1},
+    {"corner+ psi=0.2", ft, c, tphi, 0.2, 0, 0, {0, 0, 0, 0}, 1.5e5 / KT + 1e-5, ft / KN + 2.2e-5, 3, -1},
+    {"corner- softening psi=0.2", ft, c, tphi, 0.2, 12, 50, {0, 2e-5, 2e-5, 2e-5}, -1.5e5 / KT - 3e-5, ft / KN + 6e-5, 3, 0},
+    {"corner+ softening psi=phi", ft, c, tphi, tphi, 12, 50, {0, 2e-5, 2e-5, 0}, 1.5e5 / KT + 3e-5, ft / KN + 8e-5, 3, 1},
+    {"corner+ softening psi=0", ft, c, tphi, 0, 12, 50, {0, 2e-5, 2e-5, 2e-5}, 1.5e5 / KT + 3e-5, ft / KN + 6e-5, 3, 0},
+    {"apex psi=0.2", 5e5, 1.5e5, tphi, 0.2, 0, 0, {0, 0, 0, 0}, 2e-5, 2e5 / KN + 0.2 * 4e-5, 2, -1},
+    {"apex softening psi=0.2", ft, c, tphi, 0.2, 12, 50, {1e-5, 0, 0, 5e-4}, 1.5e-5, 1e-4, 2, -1}, /* rt = 0: T12 = T21 = 0 */
+    {"apex softening psi=phi", ft, c, tphi, tphi, 12, 50, {1e-5, 0, 0, 5e-4}, 0.5e-5, 1e-4, 2, 1},
+    {"lowered cut-off psi=0 softening", ft, c, tphi, 0, 12, 50, {1e-5, 0, 0, 5e-4}, 2e-5, 1e-4, 3, 0},
+  };
+  for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+    set_par(par, cases[i].ft, cases[i].c, cases[i].tphi, cases[i].tpsi, cases[i].gfI, cases[i].gfII);
+    worst = fmax(worst, fd_check(cases[i].name, par, cases[i].s, cases[i].dt, cases[i].dn, cases[i].mode, &asym));
+    /* asymmetry: kn tanphi kt / A against kn tanpsi kt / A, far above round-off when psi != phi */
+    if (cases[i].symmetric == 1) CHECK(asym <= 1e-12, "tangent %s: not symmetric (%g)", cases[i].name, asym);
+    if (cases[i].symmetric == 0) CHECK(asym >= 1e-3, "tangent %s: symmetric (%g) though psi != phi", cases[i].name, asym);
+  }
+  printf("tangent: worst |T - T_fd| / kn over all regimes %.2e\n", worst);
+}
+
+/* splitmix64: a fixed, portable random sequence */
+static uint64_t rng_state = 20240611u;
+static double   uniform(void)
+{
+  uint64_t z = (rng_state += 0x9e3779b97f4a7c15u);
+  z          = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+  z          = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+  z ^= z >> 31;
+  return (double)(z >> 11) / 9007199254740992.0;
+}
+
+static void test_property(void)
+{
+  /* 10^4 random laws (perfectly plastic or softening; tanpsi 0, random or tanphi; tanphi 0
+   * sometimes; ft, c zero sometimes; apex above or below the cut-off), states and trial jumps
+   * from well inside to 100 times past the surfaces. Invariants, with the scale sig = the
+   * largest of |r_trial|, ft(k1), c(k2):
+   *   - no surface violated at the returned (r, k): f <= 1e-12 sig (the kernel's active-set
+   *     tolerance; round-off is ~1e-16 sig, the local Newton's 1e-14 sig);
+   *   - k1, k2 non-decreasing; multipliers dl1 = dk1, dl2+- = (dk2 +- dslip)/2 >= -1e-12 sig/k;
+   *   - flow: d opening = dl1 + tanpsi dk2;  r = C (j - jpl_out) to 1e-14 sig;
+   *   - complementarity: a positive multiplier puts r on its surface (|f| <= 1e-12 sig),
+   *     except the lowered cut-off of tanpsi = 0, whose stress is the apex;
+   *   - mode 0 leaves the state bitwise unchanged and returns the trial stress;
+   *   - the tangent matches central differences to 1e-6 of max(kn, |T|) (see fd_check)
+   *     away from region boundaries.
+   * The state differences are rounded at the state's own magnitude (k2 up to 3e-4 m), so
+   * multiplier signs and the flow identity hold to ~1e-13 sig/k, not to eps. */
+  const int n = 10000;
+  int       count[4] = {0, 0, 0, 0}, lowered = 0;
+  double    worst_f = 0, worst_flow = 0, worst_dl = 0, worst_fd = 0;
+  int       nfd = 0;
+  for (int it = 0; it < n; it++) {
+    double par[BW_LAW_NPAR], s[BW_LAW_NSTATE], f[3];
+    double ft = uniform() < 0.2 ? 0 : 1e5 * (0.5 + 4 * uniform()), c = uniform() < 0.2 ? 0 : 1e5 * (0.5 + 4 * uniform());
+    double tphi = uniform() < 0.1 ? 0 : 0.3 + 0.7 * uniform(), u = uniform();
+    double tpsi = u < 0.3 ? 0 : (u < 0.6 ? tphi : tphi * uniform());
+    /* softening: fracture energies of masonry joints, or ones that bring the softening
+     * moduli ft^2/GfI, c^2/GfII to 0.3 .. 0.99 of kn, kt (just short of a local snap-back) */
+    int    soft = uniform() < 0.5, steep = uniform() < 0.3;
+    double gfI = steep ? ft * ft / ((0.3 + 0.69 * uniform()) * KN) : 5 + 50 * uniform();
+    double gfII = steep ? c * c / ((0.3 + 0.69 * uniform()) * KT) : 10 + 100 * uniform();
+    set_par(par, ft, c, tphi, tpsi, soft ? gfI : 0, soft ? gfII : 0);
+    double lI = ft > 0 && soft ? fmin(par[BW_LAW_PAR_GFI] / ft, 1e-4) : 1e-4, lII = c > 0 && soft ? fmin(par[BW_LAW_PAR_GFII] / c, 1e-4) : 1e-4;
+    s[SLIP] = 1e-4 * (2 * uniform() - 1);
+    s[OPEN] = 1e-4 * uniform();
+    s[K1]   = uniform() < 0.3 ? 0 : 3 * lI * uniform();
+    s[K2]   = uniform() < 0.3 ? 0 : 3 * lII * uniform();
+    /* trial stress magnitude 1e4 .. 1e8 Pa in a random direction */
+    double mag = 1e4 * pow(10, 4 * uniform()), ang = 6.283185307179586 * uniform();
+    double dt = s[SLIP] + mag * cos(ang) / KT, dn = s[OPEN] + mag * sin(ang) / KN;
+    Ret    o  = law(par, s, dt, dn);
+    double rtr[2] = {KT * (dt - s[SLIP]), KN * (dn - s[OPEN])};
+    double sig = fmax(fmax(fabs(rtr[0]), fabs(rtr[1]) * fmax(1, tphi)), fmax(strength(ft, par[BW_LAW_PAR_GFI], s[K1]), strength(c, par[BW_LAW_PAR_GFII], s[K2])));
+    CHECK(o.status == 0, "property %d: status %d", it, o.status);
+    if (o.status) continue;
+    count[(int)o.mode]++;
+    surfaces(par, o.r, o.s, f);
+    worst_f = fmax(worst_f, fmax(f[0], fmax(f[1], f[2])) / sig);
+    CHECK(f[0] <= 1e-12 * sig && f[1] <= 1e-12 * sig && f[2] <= 1e-12 * sig, "property %d: surface violated %g %g %g (sig %g)", it, f[0], f[1], f[2], sig);
+    double dk1 = o.s[K1] - s[K1], dk2 = o.s[K2] - s[K2], dsl = o.s[SLIP] - s[SLIP], dop = o.s[OPEN] - s[OPEN];
+    CHECK(dk1 >= 0 && dk2 >= 0, "property %d: k decreased (%g %g)", it, dk1, dk2);
+    double tolj = 1e-12 * sig / fmin(KT, KN);
+    double dlp = 0.5 * (dk2 + dsl), dlm = 0.5 * (dk2 - dsl);
+    worst_dl   = fmax(worst_dl, fmax(-dlp, -dlm) / (sig / fmin(KT, KN)));
+    CHECK(dlp >= -tolj && dlm >= -tolj, "property %d: negative cone multiplier (%g %g)", it, dlp, dlm);
+    worst_flow = fmax(worst_flow, fabs(dop - dk1 - tpsi * dk2) / (sig / fmin(KT, KN)));
+    CHECK(fabs(dop - dk1 - tpsi * dk2) <= tolj, "property %d: opening %g != dk1 + tanpsi dk2 = %g", it, dop, dk1 + tpsi * dk2);
+    /* jpl = j - r/C is stored rounded: a few eps of C j and of r */
+    double tolr = 1e-15 * (KT * fabs(dt) + KN * fabs(dn) + fabs(o.r[0]) + fabs(o.r[1]));
+    CHECK(fabs(o.r[0] - KT * (dt - o.s[SLIP])) <= tolr && fabs(o.r[1] - KN * (dn - o.s[OPEN])) <= tolr, "property %d: r != C (j - jpl)", it);
+    int is_lowered = tpsi == 0 && tphi > 0 && o.mode == 3 && f[0] < -1e-12 * sig;
+    lowered += is_lowered;
+    if (is_lowered)
+      CHECK(o.r[0] == 0 && fabs(o.r[1] * tphi - strength(c, par[BW_LAW_PAR_GFII], o.s[K2])) <= 1e-12 * sig, "property %d: lowered cut-off off the apex", it);
+    else if (dk1 > tolj)
+      CHECK(fabs(f[0]) <= 1e-12 * sig, "property %d: k1 grew off the cut-off (f1 %g)", it, f[0]);
+    if (dlp > tolj) CHECK(fabs(f[1]) <= 1e-12 * sig, "property %d: dl2+ > 0 off f2+ (%g)", it, f[1]);
+    if (dlm > tolj) CHECK(fabs(f[2]) <= 1e-12 * sig, "property %d: dl2- > 0 off f2- (%g)", it, f[2]);
+    /* the tangent against central differences (as in the tangent case, step 1e-6 of the
+     * trial jump), where the mode is the same at +-h and +-2h (no region boundary near) */
+    {
+      double h = 1e-6 * fmax(fmax(fabs(dt - s[SLIP]), fabs(dn - s[OPEN])), 1e-9), fd[4], e = 0;
+      int    same = 1;
+      for (int cc = 0; cc < 2; cc++) {
+        for (int m = 1; m <= 2; m++) {
+          Ret p = law(par, s, dt + m * (cc == 0) * h, dn + m * (cc == 1) * h), q = law(par, s, dt - m * (cc == 0) * h, dn - m * (cc == 1) * h);
+          same  = same && p.mode == o.mode && q.mode == o.mode;
+          if (m == 1)
+            for (int row = 0; row < 2; row++) fd[2 * row + cc] = (p.r[row] - q.r[row]) / (2 * h);
+        }
+      }
+      /* near the snap-back bound the tangent grows to 1/(1 - 0.99) kn: errors scale with it */
+      for (int q = 0; q < 4; q++) e = fmax(e, fabs(fd[q] - o.T[q]) / fmax(KN, maxabs4(o.T)));
+      if (same) {
+        nfd++;
+        worst_fd = fmax(worst_fd, e);
+        CHECK(e <= 1e-6, "property %d: tangent error %.3e (mode %d)", it, e, o.mode);
+      }
+    }
+    if (o.mode == 0) CHECK(!memcmp(o.s, s, sizeof(s)) && o.r[0] == rtr[0] && o.r[1] == rtr[1], "property %d: elastic step changed the state", it);
+  }
+  printf("property: %d trials, modes 0/1/2/3 = %d/%d/%d/%d (lowered cut-off %d); worst f/sig %.2e, worst -dl kmin/sig %.2e, worst flow "
+         "mismatch kmin/sig %.2e; tangent checked at %d, worst |T - T_fd|/max(kn,|T|) %.2e\n",
+         n, count[0], count[1], count[2], count[3], lowered, worst_f, worst_dl, worst_flow, nfd, worst_fd);
+}
+
+static void test_bad(void)
+{
+  double      par[BW_LAW_NPAR], good[BW_LAW_NPAR], s[8] = {0}, j[4] = {1e-5, 1e-5, 1e-5, 1e-5}, r[4], T[8], so[8];
+  signed char mode[2];
+  int         st;
+  set_par(good, 2e5, 3e5, 0.75, 0.2, 12, 50);
+  struct {
+    int    index;
+    double value;
+    int    want;
+  } cases[] = {
+    {BW_LAW_PAR_KT, 0, BW_LAW_BAD_STIFFNESS},
+    {BW_LAW_PAR_KN, -1e11, BW_LAW_BAD_STIFFNESS},
+    {BW_LAW_PAR_KN, NAN, BW_LAW_BAD_STIFFNESS},
+    {BW_LAW_PAR_KT, INFINITY, BW_LAW_BAD_STIFFNESS},
+    {BW_LAW_PAR_FT, -1, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_C, NAN, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_C, INFINITY, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_TANPHI, -0.1, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_TANPSI, -0.1, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_TANPSI, 0.8, BW_LAW_BAD_STRENGTH}, /* tanpsi > tanphi */
+    {BW_LAW_PAR_GFI, NAN, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_GFII, INFINITY, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_GFI, 1e-320, BW_LAW_BAD_STRENGTH}, /* ft/GfI not finite */
+    {BW_LAW_PAR_GFI, -1, BW_LAW_OK},               /* no softening */
+    {BW_LAW_PAR_GFII, 0, BW_LAW_OK},
+  };
+  for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+    memcpy(par, good, sizeof(par));
+    par[cases[i].index] = cases[i].value;
+    bw_law_coulomb(2, par, s, j, r, T, so, mode, &st);
+    CHECK(st == cases[i].want, "coulomb: par[%d] = %g gave status %d, want %d", cases[i].index, cases[i].value, st, cases[i].want);
+    /* the linear law reads the stiffnesses only */
+    bw_law_elastic(2, par, s, j, r, T, so, mode, &st);
+    int want = cases[i].want == BW_LAW_BAD_STIFFNESS ? BW_LAW_BAD_STIFFNESS : BW_LAW_OK;
+    CHECK(st == want, "elastic: par[%d] = %g gave status %d, want %d", cases[i].index, cases[i].value, st, want);
+  }
+  /* a bad second portion */
+  j[3] = NAN;
+  bw_law_coulomb(2, good, s, j, r, T, so, mode, &st);
+  CHECK(st == BW_LAW_BAD_JUMP, "NaN jump gave %d", st);
+  bw_law_elastic(2, good, s, j, r, T, so, mode, &st);
+  CHECK(st == BW_LAW_BAD_JUMP, "elastic: NaN jump gave %d", st);
+  j[3] = -INFINITY;
+  bw_law_coulomb(2, good, s, j, r, T, so, mode, &st);
+  CHECK(st == BW_LAW_BAD_JUMP, "infinite jump gave %d", st);
+  j[3]                  = 1e-5;
+  s[4 + BW_LAW_STATE_K1] = -1e-6;
+  bw_law_coulomb(2, good, s, j, r, T, so, mode, &st);
+  CHECK(st == BW_LAW_BAD_STATE, "k1 < 0 gave %d", st);
+  s[4 + BW_LAW_STATE_K1]   = 0;
+  s[4 + BW_LAW_STATE_SLIP] = NAN;
+  bw_law_coulomb(2, good, s, j, r, T, so, mode, &st);
+  CHECK(st == BW_LAW_BAD_STATE, "NaN slip gave %d", st);
+  s[4 + BW_LAW_STATE_SLIP] = 0;
+  bw_law_coulomb(2, good, s, j, r, T, so, mode, &st);
+  CHECK(st == BW_LAW_OK, "good input gave %d", st);
+}
+
+int main(int argc, char **argv)
+{
+  const char *which = argc > 1 ? argv[1] : "all";
+#define RUN(name, call) \
+  if (!strcmp(which, name) || !strcmp(which, "all")) call
+  RUN("elastic", test_elastic());
+  RUN("cutoff", test_cutoff());
+  RUN("coulomb", test_coulomb());
+  RUN("corner", test_corner());
+  RUN("apex", test_apex());
+  RUN("notension", test_notension());
+  RUN("soft_mode1", test_softening(0));
+  RUN("soft_mode2", test_softening(1));
+  RUN("unload", test_unload());
+  RUN("tangent", test_tangent());
+  RUN("property", test_property());
+  RUN("bad", test_bad());
+  printf("%s: %s\n", which, failures ? "FAILED" : "passed");
+  return failures ? 1 : 0;
+}
