@@ -7,14 +7,14 @@ static const char help[] = "blockwall: static equilibrium of rigid blocks joined
 /* The driver, as numbered steps:
  *   1. scene file and command line, typed keys    (BwScene)
  *   2. every key that does not depend on the geometry (BwModel, BwGeometry,
- *      BwOutput, BwSolver), then options nobody reads are refused
- *   3. geometry, joint stiffness, supports and loads (BwGeometry, BwModel),
- *      then every unread key of blockwall's is refused, before any work
+ *      BwOutput, BwSolver, the analysis), then options nobody reads are
+ *      refused
+ *   3. geometry, joint stiffness, supports, loads (BwGeometry, BwModel) and
+ *      the analysis's own keys (load cases), then every unread key of
+ *      blockwall's is refused, before any work
  *   4. partition (METIS, more than one rank), layout and assembly of the
- *      scaled mixed system (BwMixed)
- *   5. solve: fieldsplit Schur, MUMPS fallback   (BwSolver)
- *   6. recover results, self-check, refuse options nothing used
- *   7. write HDF5 (temporary name, then rename) and print the summary
+ *      scaled mixed system (BwMixed), the solver bound to it (BwSolver)
+ *   5. the analysis: solves, recovery, self-checks, HDF5 output, summary
  * Errors print one line on stderr and exit non-zero without output. */
 #include <hdf5.h>
 #include "scene/scene.h"
@@ -22,154 +22,105 @@ static const char help[] = "blockwall: static equilibrium of rigid blocks joined
 #include "system/mixed.h"
 #include "solver/solver.h"
 #include "output/output.h"
+#include "analysis/analysis.h"
 #include "util/log.h"
 #include "util/compat.h"
 #include "util/signals.h"
 
 typedef struct {
-  BwScene    scene;
-  BwGeometry geom;
-  BwModel    model;
-  BwMixed    mixed;
-  BwSolver   solver;
-  BwOutput   output;
-  BwResults  results;
-  char      *text;
+  BwProblem  p;
+  BwAnalysis analysis;
+  BwLog      log;
 } BwRun;
 
 static PetscErrorCode BwRunDestroy(BwRun *run)
 {
   PetscFunctionBeginUser;
-  if (run->results.displacement) PetscCall(BwResultsFree(&run->results));
-  PetscCall(PetscFree(run->text));
-  PetscCall(BwOutputDestroy(&run->output));
-  PetscCall(BwSolverDestroy(&run->solver));
-  PetscCall(BwMixedDestroy(&run->mixed));
-  PetscCall(BwModelDestroy(&run->model));
-  PetscCall(BwGeometryDestroy(&run->geom));
-  PetscCall(BwSceneDestroy(&run->scene));
+  PetscCall(BwAnalysisDestroy(&run->analysis));
+  PetscCall(BwOutputDestroy(&run->p.output));
+  PetscCall(BwSolverDestroy(&run->p.solver));
+  PetscCall(BwMixedDestroy(&run->p.mixed));
+  PetscCall(BwModelDestroy(&run->p.model));
+  PetscCall(BwGeometryDestroy(&run->p.geom));
+  PetscCall(BwSceneDestroy(&run->p.scene));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
 {
-  char               path[PETSC_MAX_PATH_LEN] = "", title[256] = "";
+  BwProblem         *p    = &run->p;
+  char               path[PETSC_MAX_PATH_LEN] = "";
   PetscBool          has_scene, help, progress_set;
-  BwLog              log;
   PetscMPIInt       *owner = NULL;
   PetscInt           ndeferred;
   const char *const *deferred;
+  BwStorage          storage;
 
   PetscFunctionBeginUser;
-  PetscCall(BwLogCreate(comm, &log));
+  p->comm = comm;
+  p->log  = &run->log;
+  PetscCall(BwLogCreate(comm, &run->log));
   PetscCall(PetscOptionsHasHelp(NULL, &help));
 
   /* 1. scene */
-  PetscCall(BwSceneCreate(comm, &run->scene));
+  PetscCall(BwSceneCreate(comm, &p->scene));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), &has_scene));
   PetscCheck(has_scene || help, comm, PETSC_ERR_USER_INPUT, "-scene SCENE.yaml is required (run with -help for the options)");
-  PetscCall(BwSceneLoad(run->scene, has_scene ? path : NULL));
+  PetscCall(BwSceneLoad(p->scene, has_scene ? path : NULL));
   if (help) PetscCall((*PetscHelpPrintf)(comm, "blockwall:\n  -scene <%s>: Scene file (YAML); every key is also an option\n", path));
-  PetscCall(BwSceneString(run->scene, "-title", "Free text describing the scene", title, sizeof(title), NULL));
-  PetscCall(BwSceneBool(run->scene, "-progress", "One line per phase with time and memory (default: for 10000 blocks or more)", &log.verbose, &progress_set));
+  PetscCall(BwSceneString(p->scene, "-title", "Free text describing the scene", p->title, sizeof(p->title), NULL));
+  PetscCall(BwSceneBool(p->scene, "-progress", "One line per phase with time and memory (default: for 10000 blocks or more)", &run->log.verbose, &progress_set));
 
-  /* 2. every key that does not depend on the geometry: physics, generator,
-   * output target, solver */
-  PetscCall(BwModelCreate(comm, &run->model));
-  PetscCall(BwModelSetFromOptions(run->model, run->scene));
-  PetscCall(BwGeometryCreate(comm, &run->geom));
-  PetscCall(BwGeometrySetFromOptions(run->geom, run->scene));
-  PetscCall(BwOutputCreate(comm, &run->output));
-  PetscCall(BwOutputSetFromOptions(run->output, run->scene));
-  PetscCall(BwSolverCreate(comm, &run->solver));
-  PetscCall(BwSolverSetFromOptions(run->solver, run->scene));
+  /* 2. every key that does not depend on the geometry */
+  PetscCall(BwModelCreate(comm, &p->model));
+  PetscCall(BwModelSetFromOptions(p->model, p->scene));
+  PetscCall(BwGeometryCreate(comm, &p->geom));
+  PetscCall(BwGeometrySetFromOptions(p->geom, p->scene));
+  PetscCall(BwOutputCreate(comm, &p->output));
+  PetscCall(BwOutputSetFromOptions(p->output, p->scene));
+  PetscCall(BwSolverCreate(comm, &p->solver));
+  PetscCall(BwSolverSetFromOptions(p->solver, p->scene));
+  PetscCall(BwAnalysisCreate(p->scene, &run->analysis));
   /* a typo outside blockwall's keys fails now, before any work */
   PetscCall(BwSolverGetOptionPrefixes(&ndeferred, &deferred));
-  PetscCall(BwSceneCheckUnused(run->scene, BW_CHECK_FOREIGN, 0, NULL, ndeferred, deferred));
+  PetscCall(BwSceneCheckUnused(p->scene, BW_CHECK_FOREIGN, 0, NULL, ndeferred, deferred));
 
-  /* 3. geometry, then what depends on it: joint stiffness, supports, loads */
-  PetscCall(BwLogBegin(&log, BW_PHASE_GENERATE));
-  if (!(help && !has_scene)) PetscCall(BwGeometrySetUp(run->geom, run->scene, run->model->bed.thickness));
-  PetscCall(BwModelSetUp(run->model, run->geom, run->scene));
-  PetscCall(BwSolverSetSize(run->solver, run->geom->nblocks));
-  if (!progress_set) log.verbose = run->geom->nblocks >= 10000 ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(BwLogEnd(&log, BW_PHASE_GENERATE));
-  if (help && !has_scene) PetscFunctionReturn(PETSC_SUCCESS);
+  /* 3. geometry, then what depends on it */
+  PetscCall(BwLogBegin(p->log, BW_PHASE_GENERATE));
+  if (has_scene) PetscCall(BwGeometrySetUp(p->geom, p->scene, p->model->law[BW_JOINT_BED]->thickness));
+  PetscCall(BwModelSetUp(p->model, p->geom, p->scene));
+  PetscCall(BwAnalysisSetFromOptions(run->analysis, p));
+  if (!progress_set) run->log.verbose = p->geom->nblocks >= 10000 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(BwLogEnd(p->log, BW_PHASE_GENERATE));
+  if (!has_scene) PetscFunctionReturn(PETSC_SUCCESS); /* -help alone */
   /* every key of blockwall's has been read: the rest are typos, found
    * before the work (the solvers' own options wait for them) */
-  PetscCall(BwSceneCheckUnused(run->scene, BW_CHECK_SETUP, 0, NULL, ndeferred, deferred));
+  PetscCall(BwSceneCheckUnused(p->scene, BW_CHECK_SETUP, 0, NULL, ndeferred, deferred));
 
-  /* 4. partition and assembly */
-  PetscCall(BwLogBegin(&log, BW_PHASE_PARTITION));
-  PetscCall(BwPartitionBlocks(run->model, &owner));
-  PetscCall(BwLogEnd(&log, BW_PHASE_PARTITION));
-  PetscCall(BwLogBegin(&log, BW_PHASE_ASSEMBLE));
-  PetscCall(BwMixedCreate(run->model, owner, &run->mixed));
+  /* 4. partition, assembly, the solver */
+  PetscCall(BwLogBegin(p->log, BW_PHASE_PARTITION));
+  PetscCall(BwPartitionBlocks(p->model, &owner));
+  PetscCall(BwLogEnd(p->log, BW_PHASE_PARTITION));
+  PetscCall(BwLogBegin(p->log, BW_PHASE_ASSEMBLE));
+  PetscCall(BwMixedCreate(p->model, owner, &p->mixed));
   PetscCall(PetscFree(owner));
-  run->mixed->storage = run->solver->storage;
-  PetscCall(BwMixedAssemble(run->mixed));
+  PetscCall(BwSolverGetStorage(p->solver, &storage));
+  PetscCall(BwMixedSetUp(p->mixed, storage));
   /* With m = 1 an interface carries no moment; the static restraint checks
    * cannot see every hinge mechanism, so S^ is checked numerically. */
-  if (run->model->m == 1) PetscCall(BwMixedCheckMechanism(run->mixed, "m = 1 interfaces carry no moment"));
-  PetscCall(BwLogEnd(&log, BW_PHASE_ASSEMBLE));
+  if (p->model->m == 1) PetscCall(BwMixedCheckMechanism(p->mixed, "m = 1 interfaces carry no moment"));
+  PetscCall(BwSolverSetUp(p->solver, p->mixed));
+  PetscCall(BwLogEnd(p->log, BW_PHASE_ASSEMBLE));
 
-  /* 5. solve (set-up and solve phases inside) */
-  PetscCall(BwSolverSolve(run->solver, run->mixed, &log));
-
-  /* 6. recover and check */
-  PetscCall(BwLogBegin(&log, BW_PHASE_RECOVER));
-  PetscCall(BwMixedRecover(run->mixed, run->mixed->x, run->output->stresses, &run->results));
-  PetscCall(BwMixedCheck(run->mixed, run->mixed->x, &run->results, &run->solver->check));
-  PetscCall(BwLogEnd(&log, BW_PHASE_RECOVER));
-  {
-    PetscInt    n;
-    const char *idle[6];
-    PetscCall(BwSolverGetIdlePrefixes(run->solver, &n, idle));
-    PetscCall(BwSceneCheckUnused(run->scene, BW_CHECK_FINAL, n, idle, 0, NULL));
-  }
-
-  /* 7. write and report */
-  PetscCall(BwSceneGetText(run->scene, &run->text));
-  PetscCall(BwLogBegin(&log, BW_PHASE_WRITE));
-  PetscCall(BwOutputWrite(run->output, run->mixed, &run->results, run->solver, run->text, &log));
-  PetscCall(BwLogEnd(&log, BW_PHASE_WRITE));
-  {
-    BwSolver       s = run->solver;
-    PetscMPIInt    size;
-    PetscLogDouble total, cur, peak;
-    char           blas[PETSC_MAX_PATH_LEN];
-
-    PetscCallMPI(MPI_Comm_size(comm, &size));
-    PetscCall(BwLogTotal(&log, &total));
-    PetscCall(BwMemoryUsage(comm, &cur, &peak));
-    PetscCall(BwBlasName(blas, sizeof(blas)));
-    PetscCall(PetscPrintf(comm, "blockwall %s%s%s\n", BW_VERSION, title[0] ? ": " : "", title));
-    PetscCall(PetscPrintf(comm, "  blocks %" PetscInt_FMT ", interfaces %" PetscInt_FMT ", m %" PetscInt_FMT ", ranks %d\n", run->geom->nblocks, run->geom->ninterfaces, run->model->m, size));
-    PetscCall(PetscPrintf(comm, "  unknowns: q %" PetscInt_FMT " (block dofs), r %" PetscInt_FMT " (stresses)\n", run->mixed->nq_global, run->mixed->nr_global));
-    PetscCall(PetscPrintf(comm, "  method: %s (requested %s), iterations %" PetscInt_FMT "%s%s\n", BwMethods[s->used], BwMethods[s->requested], s->iterations, s->fallback ? ", fallback: " : "", s->fallback_reason));
-    PetscCall(PetscPrintf(comm, "  residual %.3e (equilibrium %.3e, compatibility %.3e; rtol %.1e)\n", (double)s->check.residual, (double)s->check.equilibrium, (double)s->check.compatibility, (double)s->rtol));
-    PetscCall(PetscPrintf(comm, "  equilibrium error (reactions + loads) %.3e\n", (double)s->check.equilibrium_error));
-    if (s->forward_estimate >= 0 || s->condition_estimate > 0) {
-      PetscCall(PetscPrintf(comm, "  estimated displacement error "));
-      if (s->forward_estimate >= 0) PetscCall(PetscPrintf(comm, "%.1e (forward_rtol %.1e)", (double)s->forward_estimate, (double)s->forward_rtol));
-      else PetscCall(PetscPrintf(comm, "not estimated"));
-      if (s->condition_estimate > 0) PetscCall(PetscPrintf(comm, "; condition estimate %.1e", (double)s->condition_estimate));
-      PetscCall(PetscPrintf(comm, "\n"));
-    }
-    if (!s->accuracy_met) PetscCall(PetscPrintf(comm, "  WARNING: %s\n", s->warning));
-    PetscCall(PetscPrintf(comm, "  time [s]:"));
-    for (int p = 0; p < BW_NPHASES; p++) PetscCall(PetscPrintf(comm, " %s %.3f,", BwPhaseNames[p], log.seconds[p]));
-    PetscCall(PetscPrintf(comm, " total %.3f\n", total));
-    PetscCall(PetscPrintf(comm, "  memory: peak %.1f MB over all ranks (%.0f bytes per block); BLAS %s\n", peak / 1048576.0, peak / (double)run->geom->nblocks, blas));
-    PetscCall(PetscPrintf(comm, "  output: %s\n", run->output->file));
-  }
+  /* 5. the analysis */
+  PetscCall(BwAnalysisRun(run->analysis, p));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
-  BwRun          run = {0};
+  BwRun          run;
   PetscMPIInt    rank;
   int            code = 0;
 
@@ -178,6 +129,7 @@ int main(int argc, char **argv)
    * turns into its one error line. A user's own choice (OMPI_MCA_io) wins. */
   setenv("OMPI_MCA_io", "^ompio", 0);
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
+  PetscCall(PetscMemzero(&run, sizeof(run)));
   /* Errors are reported once, as one line, by this driver: no PETSc
    * traceback, no HDF5 error stack. */
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
@@ -187,11 +139,10 @@ int main(int argc, char **argv)
   ierr = BwSceneCheckArguments(PETSC_COMM_WORLD, argc, argv);
   if (!ierr) ierr = BwRunMain(PETSC_COMM_WORLD, &run);
   if (ierr) {
-    char *specific = NULL;
-    PetscErrorMessage(ierr, NULL, &specific);
+    const char *specific = BwErrorText(ierr);
     if (rank == 0) {
-      if (ierr == PETSC_ERR_MEM) fprintf(stderr, "blockwall: error: out of memory (in %s): the assembly is too large for this machine's memory with these settings\n", specific && specific[0] ? specific : "blockwall");
-      else fprintf(stderr, "blockwall: error: %s\n", specific && specific[0] ? specific : "unknown error");
+      if (ierr == PETSC_ERR_MEM) fprintf(stderr, "blockwall: error: out of memory (in %s): the assembly is too large for this machine's memory with these settings\n", specific[0] ? specific : "blockwall");
+      else fprintf(stderr, "blockwall: error: %s\n", specific[0] ? specific : "unknown error");
     }
     /* 1: what the user gave is wrong (scene, command line, a file to read
      * or a place to write); 2: the solve failed */

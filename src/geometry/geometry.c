@@ -7,6 +7,7 @@
 #include "util/compat.h"
 
 static PetscFunctionList BwGeometryList = NULL;
+const char *const        BwJointKindNames[BW_JOINT_NKINDS] = {"bed", "head", "unit"};
 
 PetscErrorCode BwGeometryRegister(const char name[], BwGeneratorCreate create)
 {

@@ -12,7 +12,8 @@
 #include <petscsys.h>
 #include "scene/scene.h"
 
-typedef enum { BW_JOINT_BED = 0, BW_JOINT_HEAD = 1 } BwJointKind;
+typedef enum { BW_JOINT_BED = 0, BW_JOINT_HEAD = 1, BW_JOINT_UNIT = 2, BW_JOINT_NKINDS = 3 } BwJointKind;
+extern const char *const BwJointKindNames[BW_JOINT_NKINDS]; /* "bed", "head", "unit" */
 
 typedef struct _n_BwGeometry  *BwGeometry;
 typedef struct _n_BwGenerator *BwGenerator;

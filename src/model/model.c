@@ -1,5 +1,5 @@
 /* BwModel: joint laws, portions, supports, loads and self-weight read from
- * the options database and laid out per block and per interface.
+ * the scene and laid out per block and per interface.
  *
  * Supports and loads are keyed by block-set name (supports.<set>.u1,
  * loads.<set>), so their option names are built from the geometry's sets;
@@ -11,64 +11,7 @@
 #include "model/model.h"
 #include "util/compat.h"
 
-static const char *const BwJointLawTypes[] = {"mortar", "dry", "BwJointLawType", "BW_LAW_", NULL};
 #define BW_GRAVITY 9.81
-
-PetscErrorCode BwJointLawSetFromOptions(BwJointLaw *law, BwScene scene, const char prefix[], const BwJointLaw *parent)
-{
-  char      opt[6][128];
-  PetscBool setE, setnu, setkn, setkt, sete;
-  PetscInt  type;
-
-  PetscFunctionBeginUser;
-  if (parent) *law = *parent;
-  else {
-    law->type      = BW_LAW_MORTAR;
-    law->thickness = 0.01;
-    law->E         = 1.0e9;
-    law->nu        = 0.2;
-    law->kn        = 1.0e11;
-    law->kt        = 4.0e10;
-  }
-  {
-    const char *keys[6] = {"law", "thickness", "E", "nu", "kn", "kt"};
-    for (int k = 0; k < 6; k++) PetscCall(PetscSNPrintf(opt[k], sizeof(opt[k]), "-%s%s", prefix, keys[k]));
-  }
-  type = law->type;
-  PetscCall(BwSceneHelpSection(scene, parent ? "Head joints (scene key joints.head.*, running_bond; unset keys as joints.*)" : "Joints (scene key joints.*)"));
-  {
-    char mapping[128]; /* -joints, -joints_head */
-    PetscCall(PetscSNPrintf(mapping, sizeof(mapping), "-%s", prefix));
-    mapping[strlen(mapping) - 1] = 0;
-    PetscCall(BwSceneRequireMapping(scene, mapping, "law, thickness, E, nu or kn, kt"));
-  }
-  PetscCall(BwSceneEnum(scene, opt[0], "Joint law: mortar (E, nu, thickness) or dry (kn, kt)", 2, BwJointLawTypes, &type, NULL));
-  PetscCall(BwSceneReal(scene, opt[1], "Joint thickness e, the gap between block faces [m] (dry default 0)", &law->thickness, &sete));
-  PetscCall(BwSceneReal(scene, opt[2], "Mortar Young's modulus E [Pa]", &law->E, &setE));
-  PetscCall(BwSceneReal(scene, opt[3], "Mortar Poisson's ratio nu [-]", &law->nu, &setnu));
-  PetscCall(BwSceneReal(scene, opt[4], "Dry joint normal stiffness kn [N/m^3]", &law->kn, &setkn));
-  PetscCall(BwSceneReal(scene, opt[5], "Dry joint shear stiffness kt [N/m^3]", &law->kt, &setkt));
-  law->type = (BwJointLawType)type;
-  if (law->type == BW_LAW_DRY && !sete && !parent) law->thickness = 0;
-
-  if (!(law->thickness >= 0 && !PetscIsInfOrNanReal(law->thickness))) PetscCall(BwSceneError(scene, opt[1], "must be >= 0, got %g", (double)law->thickness));
-  if (law->type == BW_LAW_MORTAR) {
-    if (setkn) PetscCall(BwSceneError(scene, opt[4], "applies to law dry, but the law is mortar (give E and nu)"));
-    if (setkt) PetscCall(BwSceneError(scene, opt[5], "applies to law dry, but the law is mortar (give E and nu)"));
-    if (!(law->E > 0 && PetscIsNormalReal(law->E))) PetscCall(BwSceneError(scene, opt[2], "must be > 0, got %g", (double)law->E));
-    if (!(law->nu > -1 && law->nu < 0.5)) PetscCall(BwSceneError(scene, opt[3], "must be in (-1, 0.5), got %g", (double)law->nu));
-    if (!(law->thickness > 0)) PetscCall(BwSceneError(scene, opt[1], "must be > 0 for a mortar joint (kn = E/e), got %g", (double)law->thickness));
-    law->kn = law->E / law->thickness;
-    law->kt = law->E / (2 * (1 + law->nu) * law->thickness);
-    if (!PetscIsNormalReal(law->kn) || !PetscIsNormalReal(law->kt)) PetscCall(BwSceneError(scene, opt[1], "gives a joint stiffness E/e that is not a finite number (E = %g, e = %g)", (double)law->E, (double)law->thickness));
-  } else {
-    if (setE) PetscCall(BwSceneError(scene, opt[2], "applies to law mortar, but the law is dry (give kn and kt)"));
-    if (setnu) PetscCall(BwSceneError(scene, opt[3], "applies to law mortar, but the law is dry (give kn and kt)"));
-    if (!(law->kn > 0 && PetscIsNormalReal(law->kn))) PetscCall(BwSceneError(scene, opt[4], "must be > 0, got %g", (double)law->kn));
-    if (!(law->kt > 0 && PetscIsNormalReal(law->kt))) PetscCall(BwSceneError(scene, opt[5], "must be > 0, got %g", (double)law->kt));
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
 
 PetscErrorCode BwModelCreate(MPI_Comm comm, BwModel *model)
 {
@@ -83,6 +26,7 @@ PetscErrorCode BwModelDestroy(BwModel *model)
 {
   PetscFunctionBeginUser;
   if (!*model) PetscFunctionReturn(PETSC_SUCCESS);
+  for (int k = 0; k < BW_JOINT_NKINDS; k++) PetscCall(BwJointLawDestroy(&(*model)->law[k]));
   PetscCall(PetscFree2((*model)->kn, (*model)->kt));
   PetscCall(PetscFree3((*model)->prescribed, (*model)->value, (*model)->load));
   PetscCall(PetscFree(*model));
@@ -215,7 +159,9 @@ PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene)
   PetscReal density = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(BwJointLawSetFromOptions(&model->bed, scene, "joints_", NULL));
+  PetscCall(BwSceneHelpSection(scene, "Joints (scene key joints.*)"));
+  PetscCall(BwJointLawCreate(&model->law[BW_JOINT_BED]));
+  PetscCall(BwJointLawSetFromOptions(model->law[BW_JOINT_BED], scene, "joints_", NULL));
   PetscCall(BwSceneHelpSection(scene, "Discretisation and self-weight (scene keys discretization.*, gravity.*)"));
   PetscCall(BwSceneRequireMapping(scene, "-discretization", "m"));
   PetscCall(BwSceneRequireMapping(scene, "-gravity", "density"));
@@ -226,6 +172,20 @@ PetscErrorCode BwModelSetFromOptions(BwModel model, BwScene scene)
   if (!(density >= 0)) PetscCall(BwSceneError(scene, "-gravity_density", "must be >= 0, got %g", (double)density));
   model->m               = m;
   model->gravity_density = density;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwModelInterfaceLaw(BwModel model, PetscInt k, BwJointLaw *law, PetscReal par[])
+{
+  BwJointLaw l = model->law[model->geom->kind[k]];
+
+  PetscFunctionBeginUser;
+  if (law) *law = l;
+  if (par) {
+    PetscCall(PetscArraycpy(par, l->par, BW_LAW_NPAR));
+    par[BW_LAW_PAR_KN] = model->kn[k];
+    par[BW_LAW_PAR_KT] = model->kt[k];
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -249,16 +209,29 @@ PetscErrorCode BwModelSetUp(BwModel model, BwGeometry g, BwScene scene)
 
   PetscFunctionBeginUser;
   PetscCall(BwModelAllocate(model, g));
-  model->head = model->bed;
-  for (PetscInt k = 0; k < ni; k++)
-    if (g->kind[k] == BW_JOINT_HEAD) {
-      PetscCall(BwJointLawSetFromOptions(&model->head, scene, "joints_head_", &model->bed));
-      break;
-    }
+  /* head joints (unset keys as joints.*) and cracks in units (a law of their
+   * own: a mortar joint's stiffness and strength mean nothing inside a unit)
+   * are read only where the geometry has them */
   for (PetscInt k = 0; k < ni; k++) {
-    const BwJointLaw *law = g->kind[k] == BW_JOINT_HEAD ? &model->head : &model->bed;
-    model->kn[k]          = g->kn ? g->kn[k] : law->kn;
-    model->kt[k]          = g->kt ? g->kt[k] : law->kt;
+    BwJointKind kind = g->kind[k];
+    if (model->law[kind]) continue;
+    PetscCall(BwJointLawCreate(&model->law[kind]));
+    if (kind == BW_JOINT_HEAD) {
+      PetscCall(BwSceneHelpSection(scene, "Head joints (scene key joints.head.*, running_bond; unset keys as joints.*)"));
+      PetscCall(BwJointLawSetFromOptions(model->law[kind], scene, "joints_head_", model->law[BW_JOINT_BED]));
+    } else {
+      PetscCall(BwSceneHelpSection(scene, "Cracks inside units (scene key joints.unit.*, running_bond.split_units)"));
+      PetscCall(BwSceneRequireMapping(scene, "-joints_unit", "the law of the cracks inside the units"));
+      PetscCall(BwJointLawSetFromOptions(model->law[kind], scene, "joints_unit_", NULL));
+    }
+  }
+  /* the stiffness that scales each interface's stresses: its law's elastic
+   * one, or the file's own kn, kt */
+  for (PetscInt k = 0; k < ni; k++) {
+    const BwJointLaw law = model->law[g->kind[k]];
+    model->kn[k]         = g->kn ? g->kn[k] : law->par[BW_LAW_PAR_KN];
+    model->kt[k]         = g->kt ? g->kt[k] : law->par[BW_LAW_PAR_KT];
+    if (law->strength) model->nonlinear = PETSC_TRUE;
   }
 
   /* Supports: supports.<set>.{u1,u2,w} = prescribed value. */

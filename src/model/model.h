@@ -1,29 +1,18 @@
 /* BwModel: what the scene says about the physics, given the geometry.
  *
- *   joint laws   mortar: kn = E/e, kt = E/(2(1+nu) e);  dry: kn, kt given [N/m^3]
+ *   joint laws   one per interface kind (bed, head, unit), BwJointLaw
  *   portions     m per interface (discretization.m)
  *   supports     block set -> prescribed dofs (u1, u2, w) and their values
  *   loads        block set -> (F1, F2, M3) at each block's centroid, plus the
  *                self-weight -density * 9.81 * area * depth on F2
  *
  * Per block it holds which dofs are prescribed, their values and the total
- * applied load; per interface the stiffness (kn, kt) in force. */
+ * applied load; per interface the elastic stiffness (kn, kt) that scales
+ * its stresses. */
 #pragma once
 #include "geometry/geometry.h"
+#include "law/law.h"
 #include "util/namemap.h"
-
-typedef enum { BW_LAW_MORTAR = 0, BW_LAW_DRY = 1 } BwJointLawType;
-
-typedef struct {
-  BwJointLawType type;
-  PetscReal      thickness; /* e [m], the gap between block faces */
-  PetscReal      E, nu;     /* mortar [Pa, -] */
-  PetscReal      kn, kt;    /* in force [N/m^3] (derived for mortar) */
-} BwJointLaw;
-
-/* Reads joints.* (prefix "joints_") or joints.head.* ("joints_head_", whose
- * unset keys inherit from `parent`). */
-PetscErrorCode BwJointLawSetFromOptions(BwJointLaw *law, BwScene scene, const char prefix[], const BwJointLaw *parent);
 
 typedef struct _n_BwModel *BwModel;
 struct _n_BwModel {
@@ -31,8 +20,9 @@ struct _n_BwModel {
   BwGeometry geom;
   PetscInt   m;
   PetscReal  gravity_density;
-  BwJointLaw bed, head;   /* joints.*, joints.head.* (running_bond's head joints) */
-  PetscReal *kn, *kt;     /* per interface */
+  BwJointLaw law[BW_JOINT_NKINDS]; /* joints.*, joints.head.*, joints.unit.* (NULL where no interface has the kind) */
+  PetscBool  nonlinear;            /* a law has a strength */
+  PetscReal *kn, *kt;     /* per interface: the elastic stiffness that scales its stresses [N/m^3] */
   PetscBool *prescribed;  /* 3 per block */
   PetscReal *value;       /* 3 per block: prescribed value (0 where free) */
   PetscReal *load;        /* 3 per block: F1, F2, M3 applied, self-weight included */
@@ -48,6 +38,9 @@ PetscErrorCode BwModelSetUp(BwModel model, BwGeometry geom, BwScene scene);
 /* The per-block and per-interface arrays for `geom`, zeroed (BwModelSetUp
  * calls it; a program that builds a model by hand calls it itself). */
 PetscErrorCode BwModelAllocate(BwModel model, BwGeometry geom);
+/* Interface k's law and its kernel parameters (the law's, with the
+ * interface's own stiffness); either may be NULL. */
+PetscErrorCode BwModelInterfaceLaw(BwModel model, PetscInt k, BwJointLaw *law, PetscReal par[]);
 /* The loads of keys <prefix>loads.<set> and the self-weight (density
  * <prefix>gravity.density if given, else gravity.density), replacing the
  * current ones: prefix "" for the scene's loads, "cases_NAME_" for a case. */

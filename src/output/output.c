@@ -100,11 +100,13 @@ PetscErrorCode BwOutputSetFromOptions(BwOutput out, BwScene scene)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwLog *log)
+static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutputData *data, BwLog *log)
 {
-  BwGeometry     geom = mx->geom;
-  BwModel        model = mx->model;
-  PetscInt       nb = geom->nblocks, ni = geom->ninterfaces, m = mx->m;
+  BwModel          model;
+  BwGeometry       geom;
+  BwMixedOwnership own;
+  const BwResults *res = data->results;
+  PetscInt         nb, ni, m;
   hsize_t        dims[3];
   int64_t       *i64;
   signed char   *i8;
@@ -113,6 +115,12 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, BwMixed mx, co
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(out->comm, &size));
+  PetscCall(BwMixedGetModel(data->mixed, &model));
+  PetscCall(BwMixedGetOwnership(data->mixed, &own));
+  geom = model->geom;
+  nb   = geom->nblocks;
+  ni   = geom->ninterfaces;
+  m    = own.m;
 
   PetscCall(BwH5FileGroup(h, "/blocks"));
   PetscCall(BwH5FileGroup(h, "/interfaces"));
@@ -134,7 +142,7 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, BwMixed mx, co
   dims[0] = (hsize_t)nb;
   PetscCall(BwH5FileWriteAll(h, "/blocks/centroid", H5T_NATIVE_DOUBLE, 2, dims, geom->centroid));
   dims[1] = 3;
-  PetscCall(BwH5FileWriteAll(h, "/blocks/load", H5T_NATIVE_DOUBLE, 2, dims, model->load));
+  PetscCall(BwH5FileWriteAll(h, "/blocks/load", H5T_NATIVE_DOUBLE, 2, dims, data->load));
   PetscCall(PetscMalloc1(3 * nb + 1, &i8));
   for (PetscInt e = 0; e < 3 * nb; e++) i8[e] = model->prescribed[e] ? 1 : 0;
   PetscCall(BwH5FileWriteAll(h, "/blocks/prescribed", H5T_NATIVE_SCHAR, 2, dims, i8));
@@ -160,19 +168,19 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, BwMixed mx, co
   /* results, distributed at their input indices */
   dims[0] = (hsize_t)nb;
   dims[1] = 3;
-  PetscCall(BwH5FileWrite(h, "/blocks/displacement", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_blocks, mx->own_blocks, res->displacement));
-  PetscCall(BwH5FileWrite(h, "/blocks/reaction", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_blocks, mx->own_blocks, res->reaction));
+  PetscCall(BwH5FileWrite(h, "/blocks/displacement", H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->displacement));
+  PetscCall(BwH5FileWrite(h, "/blocks/reaction", H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->reaction));
   dims[0] = (hsize_t)ni;
-  PetscCall(BwH5FileWrite(h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_interfaces, mx->own_interfaces, res->relative));
-  PetscCall(BwH5FileWrite(h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, mx->nown_interfaces, mx->own_interfaces, res->resultant));
+  PetscCall(BwH5FileWrite(h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->relative));
+  PetscCall(BwH5FileWrite(h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->resultant));
   if (out->stresses) {
     dims[1] = (hsize_t)m;
     dims[2] = 2;
-    PetscCall(BwH5FileWrite(h, "/interfaces/stress", H5T_NATIVE_DOUBLE, 3, dims, mx->nown_interfaces, mx->own_interfaces, res->stress));
+    PetscCall(BwH5FileWrite(h, "/interfaces/stress", H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, res->stress));
   }
   if (out->xdmf) { /* what the .xdmf beside this file needs and the schema lacks (xdmf.h) */
     BwXdmfData x;
-    PetscCall(BwXdmfDataCreate(geom, mx->nown_blocks, mx->own_blocks, res->displacement, &x));
+    PetscCall(BwXdmfDataCreate(geom, own.nown_blocks, own.own_blocks, res->displacement, &x));
     PetscCall(BwH5FileGroup(h, "/xdmf"));
     dims[0] = (hsize_t)x.ntopology;
     PetscCall(BwH5FileWriteAll(h, "/xdmf/topology", H5T_NATIVE_INT64, 1, dims, x.topology));
@@ -189,28 +197,20 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, BwMixed mx, co
 
   /* attributes */
   PetscCall(BwH5FileAttrString(h, "/", "version", BW_VERSION));
-  PetscCall(BwH5FileAttrString(h, "/", "scene", scene_text));
+  PetscCall(BwH5FileAttrString(h, "/", "scene", data->scene));
   PetscCall(BwH5FileAttrString(h, "/", "units", "SI"));
   PetscCall(BwH5FileAttrInt(h, "/", "m", m));
   PetscCall(BwH5FileAttrDouble(h, "/", "depth", geom->depth));
-  PetscCall(BwH5FileAttrString(h, "/solver", "method_requested", BwMethods[s->requested]));
-  PetscCall(BwH5FileAttrString(h, "/solver", "method_used", BwMethods[s->used]));
-  PetscCall(BwH5FileAttrInt(h, "/solver", "fallback", s->fallback));
-  PetscCall(BwH5FileAttrString(h, "/solver", "fallback_reason", s->fallback_reason));
-  PetscCall(BwH5FileAttrInt(h, "/solver", "iterations", s->iterations));
-  PetscCall(BwH5FileAttrInt(h, "/solver", "accuracy_met", s->accuracy_met));
-  PetscCall(BwH5FileAttrString(h, "/solver", "warning", s->warning));
-  PetscCall(BwH5FileAttrDouble(h, "/solver", "rtol", s->rtol));
-  PetscCall(BwH5FileAttrDouble(h, "/solver", "residual", s->check.residual));
-  PetscCall(BwH5FileAttrDouble(h, "/solver", "residual_equilibrium", s->check.equilibrium));
-  PetscCall(BwH5FileAttrDouble(h, "/solver", "residual_compatibility", s->check.compatibility));
-  PetscCall(BwH5FileAttrDouble(h, "/solver", "forward_rtol", s->forward_rtol));
-  PetscCall(BwH5FileAttrDouble(h, "/solver", "forward_error_estimate", s->forward_estimate));
-  PetscCall(BwH5FileAttrDouble(h, "/solver", "condition_estimate", s->condition_estimate));
-  PetscCall(BwH5FileAttrDouble(h, "/solver", "equilibrium_error", s->check.equilibrium_error));
+  if (data->casename) PetscCall(BwH5FileAttrString(h, "/", "case", data->casename));
+  for (PetscInt i = 0; i < data->solver->n; i++) {
+    const BwReportItem *it = &data->solver->item[i];
+    if (it->type == BW_REPORT_REAL) PetscCall(BwH5FileAttrDouble(h, "/solver", it->name, it->real));
+    else if (it->type == BW_REPORT_INT) PetscCall(BwH5FileAttrInt(h, "/solver", it->name, it->integer));
+    else PetscCall(BwH5FileAttrString(h, "/solver", it->name, it->text));
+  }
   PetscCall(BwH5FileAttrInt(h, "/solver", "ranks", size));
-  PetscCall(BwH5FileAttrInt(h, "/solver", "unknowns_q", mx->nq_global));
-  PetscCall(BwH5FileAttrInt(h, "/solver", "unknowns_r", mx->nr_global));
+  PetscCall(BwH5FileAttrInt(h, "/solver", "unknowns_q", own.nq_global));
+  PetscCall(BwH5FileAttrInt(h, "/solver", "unknowns_r", own.nr_global));
   {
     char blas[PETSC_MAX_PATH_LEN];
     PetscCall(BwBlasName(blas, sizeof(blas)));
@@ -274,19 +274,43 @@ static void BwRemoveDirs(const char dir[], const char first[])
  * its metadata blocks). */
 static PetscLogDouble BwOutputBytes(BwOutput out, BwMixed mx, const char scene_text[])
 {
-  BwGeometry     g  = mx->geom;
-  PetscLogDouble nb = g->nblocks, ni = g->ninterfaces, nv = g->offsets[g->nblocks], bytes;
+  BwModel        model;
+  BwGeometry     g;
+  PetscLogDouble nb, ni, nv, bytes;
 
+  (void)BwMixedGetModel(mx, &model);
+  g     = model->geom;
+  nb    = g->nblocks;
+  ni    = g->ninterfaces;
+  nv    = g->offsets[g->nblocks];
   bytes = nv * 16 + (nb + 1) * 8 + nb * (16 + 24 + 3 + 24 + 24) + ni * (16 + 16 + 8 + 8 + 8 + 8 + 24 + 24);
-  if (out->stresses) bytes += ni * mx->m * 16;
+  if (out->stresses) bytes += ni * model->m * 16;
   bytes += g->setoffsets[g->nsets] * 8.0 + g->nsets * 1024.0;
   if (out->xdmf) bytes += (nv + 2 * nb) * 8 + ni * (32 + 16) + nv * 24;
   bytes += 2.0 * strlen(scene_text) + 65536 + 64 * 1024.0;
   return 1.05 * bytes;
 }
 
-PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mx, const BwResults *res, BwSolver s, const char scene_text[], BwLog *log)
+PetscErrorCode BwOutputCaseFile(BwOutput out, const char casename[], char file[], size_t len)
 {
+  const char *slash, *dot;
+
+  PetscFunctionBeginUser;
+  if (!casename) {
+    PetscCall(PetscStrncpy(file, out->file, len));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  slash = strrchr(out->file, '/');
+  dot   = strrchr(out->file, '.');
+  if (!dot || (slash && dot < slash)) PetscCall(PetscSNPrintf(file, len, "%s.%s", out->file, casename));
+  else PetscCall(PetscSNPrintf(file, len, "%.*s.%s%s", (int)(dot - out->file), out->file, casename, dot));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwOutputWrite(BwOutput out, const char file[], const BwOutputData *data, BwLog *log)
+{
+  BwModel    model;
+  BwGeometry geom;
   char           tmp[PETSC_MAX_PATH_LEN + 32], dir[PETSC_MAX_PATH_LEN], created[PETSC_MAX_PATH_LEN] = "", msg[3 * PETSC_MAX_PATH_LEN] = "";
   char           xdmf[PETSC_MAX_PATH_LEN + 8], xtmp[PETSC_MAX_PATH_LEN + 40];
   PetscMPIInt    rank;
@@ -297,13 +321,15 @@ PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mx, const BwResults *res, BwS
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(out->comm, &rank));
   PetscCallMPI(MPI_Bcast(&pid, 1, MPI_INT, 0, out->comm));
-  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp-%d", out->file, pid));
-  PetscCall(BwXdmfPath(out->file, xdmf, sizeof(xdmf)));
+  PetscCall(BwMixedGetModel(data->mixed, &model));
+  geom = model->geom;
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp-%d", file, pid));
+  PetscCall(BwXdmfPath(file, xdmf, sizeof(xdmf)));
   PetscCall(PetscSNPrintf(xtmp, sizeof(xtmp), "%s.tmp-%d", xdmf, pid));
-  BwDirName(out->file, dir, sizeof(dir));
+  BwDirName(file, dir, sizeof(dir));
   if (rank == 0) {
     struct statvfs fs;
-    PetscLogDouble need = BwOutputBytes(out, mx, scene_text);
+    PetscLogDouble need = BwOutputBytes(out, data->mixed, data->scene);
     if (BwMakeDirs(dir, created, sizeof(created))) {
       ok = 0;
       snprintf(msg, sizeof(msg), "output.file: cannot create directory '%s': %s", dir, strerror(errno));
@@ -311,7 +337,7 @@ PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mx, const BwResults *res, BwS
       /* refused before a byte is written: a full disk met halfway ends in
        * a half-written file, which the temporary name only hides */
       ok = 0;
-      snprintf(msg, sizeof(msg), "output.file: '%s' needs about %.3g MB and its file system has %.3g MB free; nothing was written", out->file, need / 1048576.0, (double)fs.f_bavail * (double)fs.f_frsize / 1048576.0);
+      snprintf(msg, sizeof(msg), "output.file: '%s' needs about %.3g MB and its file system has %.3g MB free; nothing was written", file, need / 1048576.0, (double)fs.f_bavail * (double)fs.f_frsize / 1048576.0);
       BwRemoveDirs(dir, created);
     }
     if (ok) PetscCall(BwTemporaryAdd(tmp));
@@ -323,26 +349,25 @@ PetscErrorCode BwOutputWrite(BwOutput out, BwMixed mx, const BwResults *res, BwS
 
   /* every rank takes the same path through the file, failed or not */
   ierr = BwH5FileCreate(out->comm, tmp, &h);
-  if (!ierr) ierr = BwOutputWriteFile(out, h, mx, res, s, scene_text, log);
+  if (!ierr) ierr = BwOutputWriteFile(out, h, data, log);
   cerr = BwH5FileClose(&h);
   if (ierr || cerr) {
-    char *text = NULL;
-    PetscErrorMessage(cerr ? cerr : ierr, NULL, &text);
+    const char *text = BwErrorText(cerr ? cerr : ierr);
     if (rank == 0) {
       unlink(tmp);
       BwTemporaryRemove(tmp);
       BwTemporaryRemove(xtmp);
       BwRemoveDirs(dir, created);
     }
-    SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "output.file: writing '%s' failed (%s); nothing was written", out->file, text && text[0] ? text : "HDF5 error");
+    SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "output.file: writing '%s' failed (%s); nothing was written", file, text[0] ? text : "HDF5 error");
   }
   /* rank 0 publishes: the .xdmf, then both files renamed with signals
    * blocked, so that a reader finds the old pair or the new one */
   if (rank == 0) {
-    const char *from[2] = {xtmp, tmp}, *to[2] = {xdmf, out->file};
+    const char *from[2] = {xtmp, tmp}, *to[2] = {xdmf, file};
     int         n = out->xdmf ? 2 : 1, failed;
     errno = 0;
-    if (out->xdmf && BwXdmfWrite(out->file, xtmp, mx->geom)) {
+    if (out->xdmf && BwXdmfWrite(file, xtmp, geom)) {
       ok = 0;
       snprintf(msg, sizeof(msg), "output.xdmf: cannot write '%s'%s%s; nothing was written", xdmf, errno ? ": " : "", errno ? strerror(errno) : "");
     } else if (BwRenameAll(n, out->xdmf ? from : from + 1, out->xdmf ? to : to + 1, &failed)) {

@@ -2,19 +2,27 @@
  * symmetric scaling that makes the compliance block the identity.
  *
  * Unknowns per rank, in this order: the stresses of the interfaces it owns
- * (2m each), then the free dofs of the blocks it owns (prescribed dofs have
- * no unknown; their values are lifted to the right-hand side). With
+ * (2m each, a (shear, normal) pair per portion, so the (r,r) block is 2x2
+ * block-diagonal), then 3 dofs for each block it owns that has a free dof.
+ * A fully prescribed block has no unknown; a prescribed dof of a block with
+ * free ones is an identity row, so that every block's three dofs are one
+ * block of 3 (GAMG aggregates and smooths by node). Prescribed values are
+ * lifted to the right-hand side. With
  *   r~ = G^{1/2} r,  q~ = diag(S)^{1/2} q,  D^ = G^{-1/2} D diag(S)^{-1/2}
- * the system solved is
+ * (G_p = A_p C^-1 with C = diag(kt, kn) the joint's elastic stiffness) the
+ * system solved is
  *
- *   [ -I   D^ ] [ r~ ]   [ -G^{-1/2} D_p u_p ]
- *   [ D^T  0  ] [ q~ ] = [ diag(S)^{-1/2} F  ]
+ *   [ -I    T D^ ] [ r~ ]   [ -G^{-1/2} D_p u_p ]
+ *   [ D^T   P    ] [ q~ ] = [ diag(S)^{-1/2} F  ]
  *
- * Every scaled unknown is in sqrt(N m), so the residual norms below compare
- * like with like; D^ has unit-norm columns. The Schur complement
- * S^ = D^T D^ is assembled interface by interface from the kernels (exact,
- * since the (r,r) block is diagonal) and serves as its preconditioning
- * matrix. */
+ * T = C^{-1/2} C_t C^{-1/2} per portion, C_t the joint law's tangent: the
+ * identity for elastic joints, where the system is the linear one; a 2x2
+ * block per portion otherwise (the Newton system of a nonlinear step). P is
+ * 1 at prescribed dofs, 0 elsewhere. Every scaled unknown is in sqrt(N m),
+ * so residual norms compare like with like; D^ has unit-norm columns. The
+ * Schur complement S^ = D^T T D^ + P is assembled interface by interface
+ * from the kernels, exact because the (r,r) block is the identity; its
+ * values are refilled in place when the tangents change (same pattern). */
 #pragma once
 #include <petscksp.h>
 #include "model/model.h"
@@ -23,45 +31,54 @@ typedef enum { BW_STORAGE_SHELL = 0, BW_STORAGE_NEST = 1, BW_STORAGE_AIJ = 2 } B
 extern const char *const BwStorages[];
 
 typedef struct _n_BwMixed *BwMixed;
-struct _n_BwMixed {
-  MPI_Comm   comm;
-  BwGeometry geom;
-  BwModel    model;
-  PetscInt   m;
-  /* layout (replicated): owner rank of each block and interface, global row
-   * of each free dof (-1 where prescribed) and of each interface's first stress */
-  PetscMPIInt *block_owner, *interface_owner;
-  PetscInt    *dof, *stress;
-  PetscInt    *sdof; /* row of each free dof in S^ and column of D^ (q rows only, same order) */
-  PetscInt    *srow; /* row of each interface's first stress in D^ (r rows only) */
-  PetscInt     nown_blocks, *own_blocks, nown_interfaces, *own_interfaces;
-  PetscInt     rstart, qstart, nlocal, nr_local, nq_local, nr_global, nq_global;
-  /* block -> interfaces (CSR, replicated) */
-  PetscInt *adj_offsets, *adj;
-  /* 1/sqrt(diag S) per block dof, computed on demand (< 0: not yet) */
-  PetscReal *qscale;
-  /* the system: K = MatNest [-I, D^; D^T, 0] with D^ a shell or AIJ, or
-   * one AIJ matrix (solver.storage); set storage before BwMixedAssemble */
-  BwStorage storage;
-  Mat K, D, S;
-  void    *keep[12]; /* CSR arrays D^ and S^ use in place */
-  PetscInt nkeep;
-  Vec x, b;
-  IS  isr, isq;
-};
 
-/* Layout from a block partition (owner rank per block, NULL: contiguous
- * ranges), then assembly of K, S and b. */
+/* Layout from a block partition (owner rank per block; NULL: contiguous
+ * ranges) and the restraint check. */
 PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt block_owner[], BwMixed *mixed);
 /* Owner rank of every block: METIS k-way on more than one rank, NULL on one. */
 PetscErrorCode BwPartitionBlocks(BwModel model, PetscMPIInt **owner);
-PetscErrorCode BwMixedAssemble(BwMixed mixed);
-/* 1/sqrt(diag S) of block b's three dofs (computed on first use, cached). */
-PetscErrorCode BwMixedQScale(BwMixed mixed, PetscInt b, const PetscReal **scale);
-/* D^ as a shell (dshell.c); fills the stress rows of the right-hand side. */
-PetscErrorCode BwMixedCreateDShell(BwMixed mixed, PetscScalar bb[], Mat *D);
-/* K as one AIJ matrix (a new reference if it already is one), for MUMPS. */
-PetscErrorCode BwMixedGetAIJ(BwMixed mixed, Mat *aij);
+/* The operators K (shell, or AIJ with storage aij) and S^ with the elastic
+ * tangents. */
+PetscErrorCode BwMixedSetUp(BwMixed mixed, BwStorage storage);
+PetscErrorCode BwMixedDestroy(BwMixed *mixed);
+
+/* New tangents: 4 per portion of every owned interface, the joint laws'
+ * physical dr/dj in the order of BwMixedGetOwnership's interfaces (NULL:
+ * the elastic ones). S^'s values are refilled in place and K follows. */
+PetscErrorCode BwMixedSetTangents(BwMixed mixed, const PetscReal tangent[]);
+/* The right-hand side for loads F (3 per block, physical) and the model's
+ * prescribed values; the one place b is filled. */
+PetscErrorCode BwMixedFillRHS(BwMixed mixed, const PetscReal load[], Vec b);
+
+PetscErrorCode BwMixedCreateVecs(BwMixed mixed, Vec *x, Vec *b);
+/* The whole operator K, the Schur complement S^, D^ (r rows, q columns). */
+PetscErrorCode BwMixedGetOperators(BwMixed mixed, Mat *K, Mat *S, Mat *D);
+/* The stress rows and the dof rows of a K-vector (contiguous on each rank). */
+PetscErrorCode BwMixedGetFields(BwMixed mixed, IS *isr, IS *isq);
+/* Applies the tangent T to the stress part (in place): y_r <- T y_r. */
+PetscErrorCode BwMixedApplyTangent(BwMixed mixed, Vec yr);
+/* The prescribed-dof mask P of the q rows (1 at prescribed dofs). */
+PetscErrorCode BwMixedGetPrescribedMask(BwMixed mixed, Vec *mask);
+/* K as one AIJ matrix (new), for a direct factorisation. */
+PetscErrorCode BwMixedCreateAIJ(BwMixed mixed, Mat *aij);
+/* Rigid motions of the whole assembly in the scaled dofs (GAMG's near-null
+ * space), attached to S^. */
+PetscErrorCode BwMixedSetNearNullSpace(BwMixed mixed);
+/* Weight of each q row for the forward-error norm: the dof's scale (times
+ * the assembly's size for rotations), 0 at prescribed dofs; and the largest
+ * weighted prescribed value. */
+PetscErrorCode BwMixedForwardWeights(BwMixed mixed, Vec weight, PetscReal *prescribed);
+
+/* Sizes and ownership, for output and analyses. */
+typedef struct {
+  PetscInt        nblocks, ninterfaces, m;
+  PetscInt        nown_blocks, nown_interfaces;
+  const PetscInt *own_blocks, *own_interfaces; /* ascending input indices */
+  PetscInt        nq_global, nr_global;
+} BwMixedOwnership;
+PetscErrorCode BwMixedGetOwnership(BwMixed mixed, BwMixedOwnership *own);
+PetscErrorCode BwMixedGetModel(BwMixed mixed, BwModel *model);
+
 /* Error naming the blocks that can move freely (called by BwMixedCreate). */
 PetscErrorCode BwMixedCheckRestraint(BwMixed mixed);
 /* Numerical check of S^ for a mechanism (restraint.c): a one-line error
@@ -70,7 +87,6 @@ PetscErrorCode BwMixedCheckRestraint(BwMixed mixed);
 PetscErrorCode BwMixedCheckMechanism(BwMixed mixed, const char how[]);
 /* Its verdict on a Rayleigh quotient rho of S^ (unit vector) against ||S^||. */
 PetscBool BwMechanismVerdict(PetscReal rho, PetscReal snorm);
-PetscErrorCode BwMixedDestroy(BwMixed *mixed);
 
 /* Results of the owned blocks and interfaces, physical units. */
 typedef struct {
@@ -80,18 +96,18 @@ typedef struct {
   PetscReal *resultant;    /* 3 per owned interface: T, N, M */
   PetscReal *stress;       /* 2m per owned interface: (shear, normal) per portion, if asked */
 } BwResults;
-/* Self-check of a solution x: relative norms in the scaled system; the
- * global balance needs the recovered reactions (res may be NULL: then
- * equilibrium_error is -1). */
+/* Self-check of a solution x of K x = b: relative norms in the scaled
+ * system; the global balance needs the recovered reactions and the loads
+ * (res may be NULL: then equilibrium_error is -1). */
 typedef struct {
   PetscReal residual;          /* ||b - K x|| / ||b|| */
-  PetscReal equilibrium;       /* ||D^T r - F|| / ||F||, scaled */
-  PetscReal compatibility;     /* ||D q - G r|| / ||D q||, scaled by G^{-1/2} */
-  PetscReal equilibrium_error; /* |sum reactions + sum loads| / |sum loads| (wrench) */
+  PetscReal equilibrium;       /* ||D^T r - F|| / max(||F||, ||r||), scaled */
+  PetscReal compatibility;     /* ||D q - G r|| / max(||D q||, ||r||), scaled by G^{-1/2} */
+  PetscReal equilibrium_error; /* |sum reactions + sum loads| / sum of their magnitudes (wrench) */
 } BwCheck;
-PetscErrorCode BwMixedCheck(BwMixed mixed, Vec x, const BwResults *res, BwCheck *check);
+PetscErrorCode BwMixedCheck(BwMixed mixed, Vec x, Vec b, const PetscReal load[], const BwResults *res, BwCheck *check);
 
 /* stresses: keep the per-portion stresses (output.stresses), else only
- * their resultants. */
-PetscErrorCode BwMixedRecover(BwMixed mixed, Vec x, PetscBool stresses, BwResults *res);
+ * their resultants. load: the loads b was filled with (for the reactions). */
+PetscErrorCode BwMixedRecover(BwMixed mixed, Vec x, const PetscReal load[], PetscBool stresses, BwResults *res);
 PetscErrorCode BwResultsFree(BwResults *res);

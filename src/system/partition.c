@@ -7,7 +7,7 @@
  * (each interface's 2m rows shared between its two blocks). One rank needs
  * no partition and gets none. */
 #include <metis.h>
-#include "system/mixed.h"
+#include "system/mixed_impl.h"
 #include "util/compat.h"
 
 PetscErrorCode BwPartitionBlocks(BwModel model, PetscMPIInt **owner)

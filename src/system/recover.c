@@ -1,12 +1,13 @@
 /* From the scaled solution back to physical results, and the self-check.
  *
  *   q = diag(S)^{-1/2} q~ (prescribed dofs take their values),  r = G^{-1/2} r~
- *   dG = R B q, (T, N, M) = H r                          (kernel bw_interface_recover)
+ *   (r_p = r~_p (a_t, a_n) / A_p per portion, a = sqrt(A_p k))
+ *   dG = R B q, (T, N, M) = H r            (kernels bw_interface_compatibility, _resultants)
  *   reaction_b = (D^T r)_b - F_b  at prescribed dofs      (model.md)
  *
  * A rank needs the stresses of every interface touching its blocks and the
  * dofs of both blocks of its interfaces: one scatter brings them. */
-#include "system/mixed.h"
+#include "system/mixed_impl.h"
 #include "util/compat.h"
 #include "blockwall/kernels.h"
 #include "util/log.h"
@@ -26,7 +27,6 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   Vec                loc;
   VecScatter         sct;
   const PetscScalar *a, *xl;
-  PetscReal         *g;
 
   PetscFunctionBeginUser;
   /* needed interfaces and blocks */
@@ -52,24 +52,23 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   /* Entries this rank holds are read in place; one scatter brings the
    * others (none on one rank), in the order they are used below. */
   {
-    PetscInt nremote = 0, lo = mx->rstart, hi = mx->rstart + mx->nlocal;
+    PetscInt nremote = 0, lo = mx->kstart, hi = mx->kstart + mx->nlocal;
     for (PetscInt e = 0; e < gh->nint; e++)
-      if (mx->stress[gh->ints[e]] < lo || mx->stress[gh->ints[e]] >= hi) nremote += m2;
-    for (PetscInt e = 0; e < gh->nblk; e++)
-      for (PetscInt c = 0; c < 3; c++) {
-        PetscInt row = mx->dof[3 * gh->blks[e] + c];
-        if (row >= 0 && (row < lo || row >= hi)) nremote++;
-      }
-    PetscCall(PetscMalloc1(nremote, &from));
+      if (mx->krow_r[gh->ints[e]] < lo || mx->krow_r[gh->ints[e]] >= hi) nremote += m2;
+    for (PetscInt e = 0; e < gh->nblk; e++) {
+      PetscInt row = mx->krow_q[gh->blks[e]];
+      if (row >= 0 && (row < lo || row >= hi)) nremote += 3;
+    }
+    PetscCall(PetscMalloc1(nremote + 1, &from));
     n = 0;
     for (PetscInt e = 0; e < gh->nint; e++)
-      if (mx->stress[gh->ints[e]] < lo || mx->stress[gh->ints[e]] >= hi)
-        for (PetscInt p = 0; p < m2; p++) from[n++] = mx->stress[gh->ints[e]] + p;
-    for (PetscInt e = 0; e < gh->nblk; e++)
-      for (PetscInt c = 0; c < 3; c++) {
-        PetscInt row = mx->dof[3 * gh->blks[e] + c];
-        if (row >= 0 && (row < lo || row >= hi)) from[n++] = row;
-      }
+      if (mx->krow_r[gh->ints[e]] < lo || mx->krow_r[gh->ints[e]] >= hi)
+        for (PetscInt p = 0; p < m2; p++) from[n++] = mx->krow_r[gh->ints[e]] + p;
+    for (PetscInt e = 0; e < gh->nblk; e++) {
+      PetscInt row = mx->krow_q[gh->blks[e]];
+      if (row >= 0 && (row < lo || row >= hi))
+        for (PetscInt c = 0; c < 3; c++) from[n++] = row + c;
+    }
     PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, from, PETSC_OWN_POINTER, &isfrom));
     PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &loc));
     PetscCall(VecScatterCreate(x, isfrom, loc, NULL, &sct));
@@ -79,37 +78,36 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
     PetscCall(ISDestroy(&isfrom));
 
     /* unscale */
-    PetscCall(PetscMalloc2(m2 * gh->nint, &gh->r, 3 * gh->nblk, &gh->q));
-    PetscCall(PetscMalloc1(m2, &g));
+    PetscCall(PetscMalloc2(m2 * gh->nint + 1, &gh->r, 3 * gh->nblk + 1, &gh->q));
     PetscCall(VecGetArrayRead(loc, &a));
     PetscCall(VecGetArrayRead(x, &xl));
     n = 0;
     for (PetscInt e = 0; e < gh->nint; e++) {
-      PetscInt           k = gh->ints[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1], row = mx->stress[k];
+      PetscInt           k = gh->ints[e], row = mx->krow_r[k];
       PetscBool          mine = row >= lo && row < hi;
       const PetscScalar *src  = mine ? xl + (row - lo) : a + n;
-      int                status;
-      bw_interface_compliance(geom->length[k], geom->depth, mx->model->kn[k], mx->model->kt[k], (int)mx->m, g, &status);
-      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ")", k, i, j);
-      for (PetscInt p = 0; p < m2; p++) gh->r[m2 * e + p] = PetscRealPart(src[p]) / PetscSqrtReal(g[p]);
+      PetscReal          at, an, ap = geom->depth * geom->length[k] / mx->m;
+      BwMixedPortionScales(mx, k, &at, &an);
+      for (PetscInt p = 0; p < mx->m; p++) {
+        gh->r[m2 * e + 2 * p]     = PetscRealPart(src[2 * p]) * at / ap;
+        gh->r[m2 * e + 2 * p + 1] = PetscRealPart(src[2 * p + 1]) * an / ap;
+      }
       if (!mine) n += m2;
     }
     for (PetscInt e = 0; e < gh->nblk; e++) {
-      PetscInt         b = gh->blks[e];
-      const PetscReal *sc;
-      PetscCall(BwMixedQScale(mx, b, &sc));
+      PetscInt         b = gh->blks[e], row = mx->krow_q[b];
+      const PetscReal *sc = &mx->qscale[3 * b];
+      PetscBool        mine = row >= lo && row < hi;
       for (PetscInt c = 0; c < 3; c++) {
-        PetscInt row = mx->dof[3 * b + c];
-        if (row < 0) gh->q[3 * e + c] = mx->model->value[3 * b + c];
-        else if (row >= lo && row < hi) gh->q[3 * e + c] = PetscRealPart(xl[row - lo]) * sc[c];
-        else gh->q[3 * e + c] = PetscRealPart(a[n++]) * sc[c];
+        if (mx->model->prescribed[3 * b + c]) gh->q[3 * e + c] = mx->model->value[3 * b + c];
+        else gh->q[3 * e + c] = PetscRealPart(mine ? xl[row - lo + c] : a[n + c]) * sc[c];
       }
+      if (row >= 0 && !mine) n += 3;
     }
     PetscCall(VecRestoreArrayRead(x, &xl));
     PetscCall(VecRestoreArrayRead(loc, &a));
     PetscCall(VecDestroy(&loc));
   }
-  PetscCall(PetscFree(g));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -133,7 +131,7 @@ static PetscErrorCode BwGhostBlock(const BwGhosts *gh, PetscInt b, const PetscRe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, PetscBool stresses, BwResults *res)
+PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBool stresses, BwResults *res)
 {
   BwGeometry geom = mx->geom;
   PetscInt   m = mx->m, m2 = 2 * m;
@@ -144,23 +142,26 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, PetscBool stresses, BwResults *
   PetscCall(BwGhostsGather(mx, x, &gh));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
-  PetscCall(PetscCalloc5(3 * mx->nown_blocks, &res->displacement, 3 * mx->nown_blocks, &res->reaction, 3 * mx->nown_interfaces, &res->relative, 3 * mx->nown_interfaces, &res->resultant, stresses ? m2 * mx->nown_interfaces : 0, &res->stress));
+  PetscCall(PetscCalloc5(3 * mx->nown_blocks + 1, &res->displacement, 3 * mx->nown_blocks + 1, &res->reaction, 3 * mx->nown_interfaces + 1, &res->relative, 3 * mx->nown_interfaces + 1, &res->resultant, stresses ? m2 * mx->nown_interfaces + 1 : 0, &res->stress));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
     PetscInt         k = mx->own_interfaces[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1], loc;
     const PetscReal *qi, *qj, *r;
+    PetscReal        rb[18], *dg = &res->relative[3 * e];
     int              status;
 
     PetscCall(PetscFindInt(k, gh.nint, gh.ints, &loc));
     r = gh.r + m2 * loc;
     PetscCall(BwGhostBlock(&gh, i, &qi));
     PetscCall(BwGhostBlock(&gh, j, &qj));
-    bw_interface_recover(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, (int)m, qi, qj, r, &res->relative[3 * e], &res->resultant[3 * e], &status);
-    PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
-    /* output order (I, m, 2): shear and normal of each portion side by side */
-    for (PetscInt p = 0; p < m && stresses; p++) {
-      res->stress[m2 * e + 2 * p]     = r[p];
-      res->stress[m2 * e + 2 * p + 1] = r[m + p];
+    PetscCall(BwMixedCompatibility(mx, k, rb));
+    for (PetscInt a = 0; a < 3; a++) {
+      dg[a] = 0;
+      for (PetscInt c = 0; c < 3; c++) dg[a] += rb[6 * a + c] * qi[c] + rb[6 * a + 3 + c] * qj[c];
     }
+    bw_interface_resultants((int)m, geom->length[k], geom->depth, r, &res->resultant[3 * e], &status);
+    PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+    /* output order (I, m, 2): the stresses' own order */
+    if (stresses) PetscCall(PetscArraycpy(&res->stress[m2 * e], r, m2));
   }
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt         b = mx->own_blocks[e];
@@ -173,17 +174,15 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, PetscBool stresses, BwResults *
     /* (D^T r)_b = sum over b's interfaces of (R B)_b^T (T, N, M), H r summed
      * from the stresses, whichever rank owns the interface */
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
-      PetscInt         k = mx->adj[a], side = mx->geom->pair[2 * k] == b ? 0 : 3, loc, i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
-      const PetscReal  zero[3] = {0, 0, 0};
-      PetscReal        rb[18], h[3], dg[3];
-      int              status;
+      PetscInt  k = mx->adj[a], side = BwSide(mx, k, b), loc;
+      PetscReal rb[18], h[3];
+      int       status;
       PetscCall(PetscFindInt(k, gh.nint, gh.ints, &loc));
-      /* h = H r (the relative displacement, unused here, from zero dofs) */
-      bw_interface_recover(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], geom->length[k], geom->depth, (int)m, zero, zero, gh.r + m2 * loc, dg, h, &status);
-      bw_interface_compatibility(&geom->centroid[2 * i], &geom->centroid[2 * j], &geom->center[2 * k], geom->angle[k], rb, &status);
+      bw_interface_resultants((int)m, geom->length[k], geom->depth, gh.r + m2 * loc, h, &status);
+      PetscCall(BwMixedCompatibility(mx, k, rb));
       for (PetscInt c = 0; c < 3; c++) f[c] += rb[side + c] * h[0] + rb[6 + side + c] * h[1] + rb[12 + side + c] * h[2];
     }
-    for (PetscInt c = 0; c < 3; c++) res->reaction[3 * e + c] = mx->model->prescribed[3 * b + c] ? f[c] - mx->model->load[3 * b + c] : 0;
+    for (PetscInt c = 0; c < 3; c++) res->reaction[3 * e + c] = mx->model->prescribed[3 * b + c] ? f[c] - load[3 * b + c] : 0;
   }
   PetscCall(BwGhostsFree(&gh));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
@@ -197,8 +196,10 @@ PetscErrorCode BwResultsFree(BwResults *res)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Residual norms of the scaled system, split into its two block rows. */
-PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, const BwResults *res, BwCheck *check)
+/* Residual norms of the scaled system, split into its two block rows, each
+ * relative to the forces involved: the loads or, where they vanish (a scene
+ * moved by prescribed displacements only), the stresses. */
+PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, Vec b, const PetscReal load[], const BwResults *res, BwCheck *check)
 {
   Vec                Kx;
   const PetscScalar *kx, *bb, *xx;
@@ -209,14 +210,15 @@ PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, const BwResults *res, BwCheck *ch
   PetscCall(VecDuplicate(x, &Kx));
   PetscCall(MatMult(mx->K, x, Kx));
   PetscCall(VecGetArrayRead(Kx, &kx));
-  PetscCall(VecGetArrayRead(mx->b, &bb));
+  PetscCall(VecGetArrayRead(b, &bb));
   PetscCall(VecGetArrayRead(x, &xx));
   for (PetscInt e = 0; e < mx->nr_local; e++) {
     PetscReal res_r = PetscRealPart(bb[e] - kx[e]);
-    PetscReal dq    = PetscRealPart(kx[e] + xx[e] - bb[e]); /* D^ q~ including prescribed dofs */
+    PetscReal dq    = PetscRealPart(kx[e] + xx[e] - bb[e]); /* T D^ q~ including prescribed dofs */
     loc[0] += res_r * res_r;
     loc[1] += dq * dq;
     loc[4] += PetscRealPart(bb[e] * bb[e]);
+    loc[5] += PetscRealPart(xx[e] * xx[e]);
   }
   for (PetscInt e = mx->nr_local; e < mx->nlocal; e++) {
     PetscReal res_q = PetscRealPart(bb[e] - kx[e]);
@@ -224,15 +226,15 @@ PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, const BwResults *res, BwCheck *ch
     loc[3] += PetscRealPart(bb[e] * bb[e]);
   }
   PetscCall(VecRestoreArrayRead(Kx, &kx));
-  PetscCall(VecRestoreArrayRead(mx->b, &bb));
+  PetscCall(VecRestoreArrayRead(b, &bb));
   PetscCall(VecRestoreArrayRead(x, &xx));
   PetscCall(VecDestroy(&Kx));
-  PetscCall(MPIU_Allreduce(loc, glob, 5, MPIU_REAL, MPIU_SUM, mx->comm));
+  PetscCall(MPIU_Allreduce(loc, glob, 6, MPIU_REAL, MPIU_SUM, mx->comm));
   {
-    PetscReal bnorm = PetscSqrtReal(glob[3] + glob[4]);
+    PetscReal bnorm = PetscSqrtReal(glob[3] + glob[4]), eq = PetscMax(glob[3], glob[5]), co = PetscMax(glob[1], glob[5]);
     check->residual      = bnorm > 0 ? PetscSqrtReal(glob[0] + glob[2]) / bnorm : PetscSqrtReal(glob[0] + glob[2]);
-    check->compatibility = glob[1] > 0 ? PetscSqrtReal(glob[0] / glob[1]) : PetscSqrtReal(glob[0]);
-    check->equilibrium   = glob[3] > 0 ? PetscSqrtReal(glob[2] / glob[3]) : PetscSqrtReal(glob[2]);
+    check->compatibility = co > 0 ? PetscSqrtReal(glob[0] / co) : PetscSqrtReal(glob[0]);
+    check->equilibrium   = eq > 0 ? PetscSqrtReal(glob[2] / eq) : PetscSqrtReal(glob[2]);
   }
 
   /* Global balance: the wrench of reactions + loads about the mean centroid,
@@ -254,7 +256,7 @@ PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, const BwResults *res, BwCheck *ch
     L = PetscMax(PetscSqrtReal(PetscSqr(hi[0] - lo[0]) + PetscSqr(hi[1] - lo[1])), PetscSqrtReal(geom->area[0]));
     for (PetscInt e = 0; e < mx->nown_blocks; e++) {
       PetscInt         b = mx->own_blocks[e];
-      const PetscReal *F = &mx->model->load[3 * b], *R = &res->reaction[3 * e];
+      const PetscReal *F = &load[3 * b], *R = &res->reaction[3 * e];
       PetscReal        dx = geom->centroid[2 * b] - x0[0], dy = geom->centroid[2 * b + 1] - x0[1];
       PetscReal        f[3] = {F[0] + R[0], F[1] + R[1], (F[2] + R[2] + dx * (F[1] + R[1]) - dy * (F[0] + R[0])) / L};
       for (PetscInt c = 0; c < 3; c++) w[c] += f[c];

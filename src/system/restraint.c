@@ -44,8 +44,9 @@
  *    S^, so it runs when something asks: a solver that meets null pivots
  *    or a breakdown, or an m = 1 assembly, where 1-2 are not exact. */
 #include <petscksp.h>
-#include "system/mixed.h"
+#include "system/mixed_impl.h"
 #include "util/compat.h"
+#include "util/factor.h"
 
 /* "3, 4, 9, ..." for the blocks b >= first with comp[b] == c. */
 static PetscErrorCode BwBlockList(PetscInt nb, const PetscInt comp[], PetscInt c, PetscInt first, char list[], size_t len, PetscInt *count)
@@ -273,7 +274,17 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
   PetscCall(KSPSetType(ksp, KSPPREONLY));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCCHOLESKY));
-  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  {
+    MatSolverType type;
+    PetscCall(BwFactorPackage(mx->comm, PETSC_FALSE, &type));
+    /* without a parallel Cholesky the check is not made: nothing is said */
+    if (!type) {
+      PetscCall(KSPDestroy(&ksp));
+      PetscCall(MatDestroy(&A));
+      PetscFunctionReturn(PETSC_SUCCESS);
+    }
+    PetscCall(PCFactorSetMatSolverType(pc, type));
+  }
   PetscCall(MatCreateVecs(A, &x, &y));
   /* a start vector that depends on the global row only: the same on any
    * number of ranks, and not orthogonal to a mechanism in practice */
@@ -303,8 +314,7 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
   PetscCall(VecGetArray(x, &xa));
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt b = mx->own_blocks[e];
-    for (PetscInt c = 0; c < 3; c++)
-      if (mx->sdof[3 * b + c] >= 0) xa[mx->sdof[3 * b + c] - lo] *= mx->qscale[3 * b + c];
+    for (PetscInt c = 0; c < 3 && mx->qrow[b] >= 0; c++) xa[mx->qrow[b] + c - lo] *= mx->model->prescribed[3 * b + c] ? 0 : mx->qscale[3 * b + c];
   }
   PetscCall(VecRestoreArray(x, &xa));
   PetscCall(VecScatterCreateToAll(x, &sct, &all));
@@ -314,7 +324,7 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
   PetscCall(PetscMalloc2(3 * nb, &q, nb, &moving));
   PetscCall(VecGetArrayRead(all, &a));
   for (PetscInt b = 0; b < nb; b++) {
-    for (PetscInt c = 0; c < 3; c++) q[3 * b + c] = mx->sdof[3 * b + c] >= 0 ? PetscRealPart(a[mx->sdof[3 * b + c]]) : 0;
+    for (PetscInt c = 0; c < 3; c++) q[3 * b + c] = mx->qrow[b] >= 0 ? PetscRealPart(a[mx->qrow[b] + c]) : 0;
     mmax = PetscMax(mmax, PetscSqrtReal(PetscSqr(q[3 * b]) + PetscSqr(q[3 * b + 1]) + PetscSqr(q[3 * b + 2]) * geom->area[b]));
   }
   PetscCall(VecRestoreArrayRead(all, &a));

@@ -77,7 +77,7 @@ static PetscErrorCode BwTestMain(MPI_Comm comm, BwScene *scene, BwGeometry *geom
 {
   char           path[PETSC_MAX_PATH_LEN] = "", dump[PETSC_MAX_PATH_LEN] = "";
   PetscBool      has_dump;
-  BwJointLaw     bed;
+  BwJointLaw     bed = NULL;
   PetscLogDouble t0, t1;
   double         c0, c1;
   PetscMPIInt    rank;
@@ -87,12 +87,14 @@ static PetscErrorCode BwTestMain(MPI_Comm comm, BwScene *scene, BwGeometry *geom
   PetscCall(PetscOptionsGetString(NULL, NULL, "-dump", dump, sizeof(dump), &has_dump));
   PetscCall(BwSceneCreate(comm, scene));
   PetscCall(BwSceneLoad(*scene, path));
-  PetscCall(BwJointLawSetFromOptions(&bed, *scene, "joints_", NULL));
+  PetscCall(BwJointLawCreate(&bed));
+  PetscCall(BwJointLawSetFromOptions(bed, *scene, "joints_", NULL));
   PetscCall(BwGeometryCreate(comm, geom));
   PetscCall(BwGeometrySetFromOptions(*geom, *scene));
   PetscCall(PetscTime(&t0));
   c0 = BwCPUTime();
-  PetscCall(BwGeometrySetUp(*geom, *scene, bed.thickness));
+  PetscCall(BwGeometrySetUp(*geom, *scene, bed->thickness));
+  PetscCall(BwJointLawDestroy(&bed));
   c1 = BwCPUTime();
   PetscCall(PetscTime(&t1));
   PetscCall(PetscPrintf(comm, "blocks %" PetscInt_FMT " interfaces %" PetscInt_FMT " seconds %.6f cpu %.6f\n", (*geom)->nblocks, (*geom)->ninterfaces, t1 - t0, c1 - c0));

@@ -1,0 +1,170 @@
+/* The linear analysis: the operator assembled and the solver set up once
+ * (factor, AMG hierarchy), then one solve per load case, each with its own
+ * self-check and its own result file.
+ *
+ *   cases:                       optional; without it there is one case,
+ *     NAME: {loads: {SET: [F1, F2, M3], ...}, gravity: {density: RHO}}
+ *
+ * A case replaces the scene's loads (and its self-weight, if it gives a
+ * density); geometry, joints, supports and prescribed values are shared.
+ * Case NAME goes to output.file with .NAME before the extension. A case
+ * whose solve fails writes no file; the others are written and the run
+ * ends with an error naming it. */
+#include <string.h>
+#include "analysis/analysis.h"
+#include "util/compat.h"
+
+typedef struct {
+  PetscInt ncases;
+  char   **cases; /* NULL: one case, the scene's loads */
+} BwLinear;
+
+/* Case names: the file's mapping cases, and cases given on the command
+ * line only (-cases_NAME_loads_SET, -cases_NAME_gravity_density). */
+static PetscErrorCode BwLinearCaseNames(BwScene scene, PetscInt *n, char ***names)
+{
+  PetscInt nfile, nopt, count;
+  char   **file, **opts, **all;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwSceneListChildren(scene, "-cases", &nfile, &file));
+  PetscCall(BwSceneListOptions(scene, "cases_", &nopt, &opts));
+  PetscCall(PetscMalloc1(nfile + nopt + 1, &all));
+  for (count = 0; count < nfile; count++) all[count] = file[count];
+  for (PetscInt o = 0; o < nopt; o++) {
+    const char *rest = opts[o] + strlen("cases_"), *cut = strstr(rest, "_loads_");
+    char        name[PETSC_MAX_OPTION_NAME];
+    PetscBool   known = PETSC_FALSE;
+    if (!cut) cut = strstr(rest, "_gravity_");
+    if (!cut || cut == rest) {
+      char opt[PETSC_MAX_OPTION_NAME + 1];
+      PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", opts[o]));
+      PetscCall(BwSceneError(scene, opt, "does not name a case's loads or gravity (cases.NAME.loads.SET, cases.NAME.gravity.density)"));
+    }
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%.*s", (int)(cut - rest), rest));
+    for (PetscInt c = 0; c < count && !known; c++) PetscCall(PetscStrcmp(all[c], name, &known));
+    if (!known) PetscCall(PetscStrallocpy(name, &all[count++]));
+  }
+  all[count] = NULL;
+  PetscCall(PetscFree(file)); /* the names moved to all */
+  PetscCall(PetscStrArrayDestroy(&opts));
+  *n     = count;
+  *names = all;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwLinearSetFromOptions(BwAnalysis a, BwProblem *p)
+{
+  BwLinear *lin = (BwLinear *)a->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwSceneHelpSection(p->scene, "Load cases (scene key cases.NAME.loads.<set>, cases.NAME.gravity.density)"));
+  PetscCall(BwSceneRequireMapping(p->scene, "-cases", "NAME: {loads: {set: [F1, F2, M3]}, gravity: {density: ...}}"));
+  PetscCall(BwLinearCaseNames(p->scene, &lin->ncases, &lin->cases));
+  if (!lin->ncases) {
+    PetscCall(PetscFree(lin->cases));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  /* every case's keys read now, before the work: a typo in the last case
+   * must not wait for the first ones to be solved */
+  for (PetscInt c = 0; c < lin->ncases; c++) {
+    char prefix[PETSC_MAX_OPTION_NAME], opt[PETSC_MAX_OPTION_NAME + 1];
+    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-cases_%s", lin->cases[c]));
+    PetscCall(BwSceneRequireMapping(p->scene, opt, "loads, gravity"));
+    PetscCall(PetscSNPrintf(prefix, sizeof(prefix), "cases_%s_", lin->cases[c]));
+    PetscCall(BwModelSetLoads(p->model, p->scene, prefix));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwLinearRun(BwAnalysis a, BwProblem *p)
+{
+  BwLinear *lin    = (BwLinear *)a->data;
+  PetscInt  ncases = lin->ncases ? lin->ncases : 1, nfailed = 0;
+  Vec       x, b;
+  char     *text, files[4 * PETSC_MAX_PATH_LEN] = "", failed[1024] = "", first_error[1024] = "";
+
+  PetscFunctionBeginUser;
+  PetscCall(BwSceneGetText(p->scene, &text));
+  PetscCall(BwMixedCreateVecs(p->mixed, &x, &b));
+  PetscCall(BwProblemPrintHead(p));
+  for (PetscInt c = 0; c < ncases; c++) {
+    const char    *name = lin->ncases ? lin->cases[c] : NULL;
+    char           file[PETSC_MAX_PATH_LEN + 64];
+    BwResults      res = {NULL, NULL, NULL, NULL, NULL};
+    BwCheck        check;
+    BwReport       report;
+    PetscErrorCode ierr;
+
+    if (name) {
+      char prefix[PETSC_MAX_OPTION_NAME];
+      PetscCall(PetscSNPrintf(prefix, sizeof(prefix), "cases_%s_", name));
+      PetscCall(BwModelSetLoads(p->model, p->scene, prefix));
+    }
+    PetscCall(BwMixedFillRHS(p->mixed, p->model->load, b));
+    ierr = BwSolverSolve(p->solver, b, x, p->log);
+    if (ierr && name) {
+      /* the other cases still run; this one writes nothing */
+      PetscCall(PetscSNPrintf(failed + strlen(failed), sizeof(failed) - strlen(failed), "%s%s", nfailed ? ", " : "", name));
+      if (!nfailed) PetscCall(PetscStrncpy(first_error, BwErrorText(ierr), sizeof(first_error)));
+      nfailed++;
+      PetscCall(PetscPrintf(p->comm, "  case %s: FAILED: %s\n", name, BwErrorText(ierr)));
+      continue;
+    }
+    PetscCall(ierr);
+    PetscCall(BwProblemCheckOptions(p));
+    /* the last solve frees the factors before recovery allocates its own */
+    if (c == ncases - 1) PetscCall(BwSolverReset(p->solver));
+    PetscCall(BwLogBegin(p->log, BW_PHASE_RECOVER));
+    PetscCall(BwMixedRecover(p->mixed, x, p->model->load, p->output->stresses, &res));
+    PetscCall(BwMixedCheck(p->mixed, x, b, p->model->load, &res, &check));
+    PetscCall(BwLogEnd(p->log, BW_PHASE_RECOVER));
+    PetscCall(BwReportCreate(&report));
+    PetscCall(BwReportString(report, "analysis", "linear"));
+    PetscCall(BwSolverReport(p->solver, report));
+    PetscCall(BwReportReal(report, "equilibrium_error", check.equilibrium_error));
+    PetscCall(BwOutputCaseFile(p->output, name, file, sizeof(file)));
+    PetscCall(BwLogBegin(p->log, BW_PHASE_WRITE));
+    {
+      BwOutputData data = {p->mixed, &res, p->model->load, report, text, name};
+      PetscCall(BwOutputWrite(p->output, file, &data, p->log));
+    }
+    PetscCall(BwLogEnd(p->log, BW_PHASE_WRITE));
+    if (name) PetscCall(PetscPrintf(p->comm, "  case %s:\n", name));
+    PetscCall(BwSolverView(p->solver, PETSC_VIEWER_STDOUT_(p->comm)));
+    PetscCall(PetscPrintf(p->comm, "  equilibrium error (reactions + loads) %.3e\n", (double)check.equilibrium_error));
+    if (files[0]) PetscCall(PetscStrlcat(files, ", ", sizeof(files)));
+    PetscCall(PetscStrlcat(files, file, sizeof(files)));
+    PetscCall(BwReportDestroy(&report));
+    PetscCall(BwResultsFree(&res));
+  }
+  PetscCall(BwProblemPrintTail(p, files));
+  PetscCall(VecDestroy(&x));
+  PetscCall(VecDestroy(&b));
+  PetscCall(PetscFree(text));
+  PetscCheck(!nfailed, p->comm, PETSC_ERR_NOT_CONVERGED, "load case%s %s failed (the other cases were written): %s", nfailed > 1 ? "s" : "", failed, first_error);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwLinearDestroy(BwAnalysis a)
+{
+  BwLinear *lin = (BwLinear *)a->data;
+
+  PetscFunctionBeginUser;
+  if (lin->cases) PetscCall(PetscStrArrayDestroy(&lin->cases));
+  PetscCall(PetscFree(a->data));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwAnalysisCreate_Linear(BwAnalysis a)
+{
+  BwLinear *lin;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&lin));
+  a->data           = lin;
+  a->setfromoptions = BwLinearSetFromOptions;
+  a->run            = BwLinearRun;
+  a->destroy        = BwLinearDestroy;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,163 @@
+/* BwJointLaw: the registries, the common keys (law, strength) and the
+ * kernel call. The elastic parts are in elastic.c. */
+#include <string.h>
+#include "law/law.h"
+#include "util/compat.h"
+
+static PetscFunctionList BwJointLawList = NULL, BwJointLawKernelList = NULL;
+
+PetscErrorCode BwJointLawRegister(const char name[], BwJointLawElastic elastic)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListAdd(&BwJointLawList, name, elastic));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointLawKernelRegister(const char name[], BwLawKernel kernel)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListAdd(&BwJointLawKernelList, name, kernel));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PETSC_INTERN PetscErrorCode BwJointLawElastic_Mortar(BwJointLaw, BwScene, PetscBool);
+PETSC_INTERN PetscErrorCode BwJointLawElastic_Dry(BwJointLaw, BwScene, PetscBool);
+
+static PetscErrorCode BwJointLawRegisterAll(void)
+{
+  PetscFunctionBeginUser;
+  if (BwJointLawList) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(BwJointLawRegister("mortar", BwJointLawElastic_Mortar));
+  PetscCall(BwJointLawRegister("dry", BwJointLawElastic_Dry));
+  PetscCall(BwJointLawKernelRegister("elastic", bw_law_elastic));
+  PetscCall(BwJointLawKernelRegister("coulomb", bw_law_coulomb));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointLawCreate(BwJointLaw *law)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(law));
+  PetscCall(PetscStrncpy((*law)->type, "mortar", sizeof((*law)->type)));
+  PetscCall(PetscStrncpy((*law)->kernel_name, "elastic", sizeof((*law)->kernel_name)));
+  (*law)->thickness             = 0.01;
+  (*law)->E                     = 1.0e9;
+  (*law)->nu                    = 0.2;
+  (*law)->par[BW_LAW_PAR_KN]    = 1.0e11;
+  (*law)->par[BW_LAW_PAR_KT]    = 4.0e10;
+  (*law)->par[BW_LAW_PAR_GFI]   = -1;
+  (*law)->par[BW_LAW_PAR_GFII]  = -1;
+  (*law)->kernel                = bw_law_elastic;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointLawDestroy(BwJointLaw *law)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(*law));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* "-<prefix><key>" */
+static PetscErrorCode BwLawKey(BwJointLaw law, const char key[], char opt[], size_t len)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(opt, len, "-%s%s", law->prefix, key));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* joints.*.strength: tension cut-off, Coulomb friction, softening. */
+static PetscErrorCode BwJointLawStrength(BwJointLaw law, BwScene scene)
+{
+  static const char *const keys[6]  = {"strength_tension", "strength_cohesion", "strength_friction", "strength_dilatancy", "strength_tension_energy", "strength_shear_energy"};
+  static const int         index[6] = {BW_LAW_PAR_FT, BW_LAW_PAR_C, BW_LAW_PAR_TANPHI, BW_LAW_PAR_TANPSI, BW_LAW_PAR_GFI, BW_LAW_PAR_GFII};
+  static const char *const help[6]  = {"Tensile strength ft >= 0 [Pa] (0: no tension)", "Cohesion c >= 0 [Pa]", "Friction coefficient tan(phi) >= 0", "Dilatancy tan(psi), 0 <= tan(psi) <= tan(phi)", "Mode I fracture energy GfI > 0 [J/m^2]: exponential softening of ft", "Mode II fracture energy GfII > 0 [J/m^2]: exponential softening of c"};
+  char                     opt[6][128], mapping[128];
+  PetscBool                set[6], any = PETSC_FALSE;
+  PetscReal                v[6];
+
+  PetscFunctionBeginUser;
+  PetscCall(BwLawKey(law, "strength", mapping, sizeof(mapping)));
+  PetscCall(BwSceneRequireMapping(scene, mapping, "tension, cohesion, friction, dilatancy, tension_energy, shear_energy"));
+  for (int k = 0; k < 6; k++) {
+    PetscCall(BwLawKey(law, keys[k], opt[k], sizeof(opt[k])));
+    v[k] = law->par[index[k]];
+    PetscCall(BwSceneReal(scene, opt[k], help[k], &v[k], &set[k]));
+    any = (PetscBool)(any || set[k]);
+  }
+  if (!any) PetscFunctionReturn(PETSC_SUCCESS); /* inherited as it is, or none */
+  if (!law->strength) {
+    /* a strength block of its own: what it does not give is the plain default */
+    for (int k = 0; k < 6; k++)
+      if (!set[k]) v[k] = k == 4 || k == 5 ? -1 : 0;
+  }
+  for (int k = 0; k < 4; k++)
+    if (!(v[k] >= 0)) PetscCall(BwSceneError(scene, opt[k], "must be >= 0, got %g", (double)v[k]));
+  if (!(v[3] <= v[2])) PetscCall(BwSceneError(scene, opt[3], "must not exceed the friction coefficient tan(phi) = %g, got %g", (double)v[2], (double)v[3]));
+  for (int k = 4; k < 6; k++)
+    if (set[k] && !(v[k] > 0)) PetscCall(BwSceneError(scene, opt[k], "must be > 0 (leave it out for no softening), got %g", (double)v[k]));
+  /* A portion softens more steeply than it is stiff when ft^2/GfI >= kn:
+   * its stress would snap back within one portion, which no return mapping
+   * can follow (the kernel's local problem has no unique solution). */
+  if (v[4] > 0 && !(v[0] * v[0] / v[4] < law->par[BW_LAW_PAR_KN]))
+    PetscCall(BwSceneError(scene, opt[4], "must exceed ft^2/kn = %g J/m^2 (ft = %g Pa, kn = %g N/m^3), else a portion snaps back", (double)(v[0] * v[0] / law->par[BW_LAW_PAR_KN]), (double)v[0], (double)law->par[BW_LAW_PAR_KN]));
+  if (v[5] > 0 && !(v[1] * v[1] / v[5] < law->par[BW_LAW_PAR_KT]))
+    PetscCall(BwSceneError(scene, opt[5], "must exceed c^2/kt = %g J/m^2 (c = %g Pa, kt = %g N/m^3), else a portion snaps back", (double)(v[1] * v[1] / law->par[BW_LAW_PAR_KT]), (double)v[1], (double)law->par[BW_LAW_PAR_KT]));
+  for (int k = 0; k < 6; k++) law->par[index[k]] = v[k];
+  law->strength = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointLawSetFromOptions(BwJointLaw law, BwScene scene, const char prefix[], BwJointLaw parent)
+{
+  char              opt[128], mapping[128], names[128] = "";
+  const char      **list;
+  int               nlist;
+  PetscInt          type = 0, ntypes = 0;
+  const char       *types[8];
+  BwJointLawElastic elastic;
+  PetscBool         set;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwJointLawRegisterAll());
+  if (parent) {
+    char keep[64];
+    PetscCall(PetscStrncpy(keep, prefix, sizeof(keep)));
+    *law = *parent;
+    PetscCall(PetscStrncpy(law->prefix, keep, sizeof(law->prefix)));
+  } else PetscCall(PetscStrncpy(law->prefix, prefix, sizeof(law->prefix)));
+  PetscCall(PetscSNPrintf(mapping, sizeof(mapping), "-%s", prefix));
+  mapping[strlen(mapping) - 1] = 0; /* -joints, -joints_head */
+  PetscCall(BwSceneRequireMapping(scene, mapping, "law, thickness, E, nu or kn, kt, strength"));
+  PetscCall(PetscFunctionListGet(BwJointLawList, &list, &nlist));
+  for (int l = 0; l < nlist && ntypes < 8; l++) {
+    if (!list[l] || !list[l][0]) continue;
+    if (!strcmp(list[l], law->type)) type = ntypes;
+    types[ntypes++] = list[l];
+  }
+  PetscCall(BwLawKey(law, "law", opt, sizeof(opt)));
+  PetscCall(BwSceneEnum(scene, opt, "Joint law: mortar (E, nu, thickness) or dry (kn, kt)", ntypes, types, &type, &set));
+  /* a law changed from the parent's does not inherit the other law's values */
+  if (set && parent && strcmp(types[type], parent->type)) parent = NULL;
+  PetscCall(PetscStrncpy(law->type, types[type], sizeof(law->type)));
+  PetscCall(PetscFree(list));
+  PetscCall(PetscFunctionListFind(BwJointLawList, law->type, &elastic));
+  PetscCheck(elastic, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint law %s is not registered (%s)", law->type, names);
+  PetscCall(elastic(law, scene, parent ? PETSC_TRUE : PETSC_FALSE));
+  PetscCall(BwJointLawStrength(law, scene));
+  PetscCall(PetscStrncpy(law->kernel_name, law->strength ? "coulomb" : "elastic", sizeof(law->kernel_name)));
+  PetscCall(PetscFunctionListFind(BwJointLawKernelList, law->kernel_name, &law->kernel));
+  PetscCheck(law->kernel, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint law kernel %s is not registered", law->kernel_name);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointLawEvaluate(BwJointLaw law, const PetscReal par[], PetscInt n, const PetscReal state_in[], const PetscReal jump[], PetscReal stress[], PetscReal tangent[], PetscReal state_out[], signed char mode[], const char what[])
+{
+  static const char *const why[] = {"", "has a non-positive or non-finite stiffness", "has an invalid strength", "found no admissible stress (the return mapping did not converge)", "met a non-finite jump", "met a non-finite or negative state"};
+  int                      status;
+
+  PetscFunctionBeginUser;
+  law->kernel((int)n, par, state_in, jump, stress, tangent, state_out, mode, &status);
+  PetscCheck(status == BW_LAW_OK, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "%s: the %s joint law %s", what, law->kernel_name, status > 0 && status < 6 ? why[status] : "failed");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,225 @@
+/* What a solve knows about its own accuracy.
+ *
+ * Forward error of the displacements, from the refinement. A residual that
+ * meets rtol does not bound the error once the system is ill-conditioned:
+ * on walls whose joints differ by 1e6..1e9 the first step (the condensed
+ * solve, whose assembled S^ adds soft joints to stiff ones) met rtol with
+ * displacements wrong by 1e-7 (docs/accuracy.md). Each Richardson step is
+ * a step of iterative refinement on the full mixed system, and its
+ * correction x_k - x_{k-1} measures the error x_{k-1} had:
+ *   it = 1: nothing known yet (the correction is x_1 itself);
+ *   it = 2: the correction, an upper estimate of x_2's error;
+ *   it > 2: while the corrections shrink steadily (the last two ratios of
+ *           successive corrections below 1/2: linear convergence), the
+ *           correction times rho / (1 - rho), rho the last ratio; else the
+ *           larger of the last two corrections.
+ * At the round-off floor of an ill-conditioned system the corrections stop
+ * shrinking and become noise (1.6e-7, 1.6e-7, then 4e-9 on a stiff cluster
+ * whose error was 4e-7): one small correction among them says nothing, so
+ * the estimate stays at the size of the noise, the error that remains. The
+ * norm is the one the stability suite measures with: max norm of the
+ * physical displacements, rotations times the assembly's diagonal, relative
+ * to the largest, prescribed values included. Only the q part is kept (3
+ * values per block): a copy of the stresses would cost 2m per interface.
+ *
+ * Condition number of what was factored: Hager's 1-norm estimator as
+ * refined by Higham (LAPACK's xLACN2), with the factor. */
+#include "solver/solver_impl.h"
+#include "util/compat.h"
+
+/* Hager-Higham iterations (each a pair of solves with the factor) */
+#define BW_CONDITION_ITERATIONS 4
+
+PetscErrorCode BwSolverForwardSetUp(BwSolver s)
+{
+  Mat S;
+
+  PetscFunctionBeginUser;
+  if (s->fw_weight) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(BwMixedGetOperators(s->mx, NULL, &S, NULL));
+  PetscCall(MatCreateVecs(S, &s->fw_weight, NULL));
+  PetscCall(BwMixedForwardWeights(s->mx, s->fw_weight, &s->fw_prescribed));
+  PetscCall(VecDuplicate(s->fw_weight, &s->fw_prev));
+  PetscCall(VecDuplicate(s->fw_weight, &s->fw_work));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  BwSolver s;
+  void    *dflt; /* KSPConvergedDefault's context */
+} BwConvergedCtx;
+
+static PetscErrorCode BwConvergedCtxDestroy(BW_CTX_DESTROY_ARG arg)
+{
+  BwConvergedCtx *c = (BwConvergedCtx *)BW_CTX_FROM_DESTROY(arg);
+
+  PetscFunctionBeginUser;
+  PetscCall(BW_CONVERGED_DESTROY(c->dflt));
+  PetscCall(PetscFree(c));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The residual test of PETSc (rtol on the true residual), and then the
+ * forward estimate must meet solver.forward_rtol: a step is added while it
+ * does not, up to the KSP's iteration limit. */
+static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, KSPConvergedReason *reason, void *ctx)
+{
+  BwConvergedCtx *c = (BwConvergedCtx *)ctx;
+  BwSolver        s = c->s;
+  IS              isq;
+  Vec             x, xq;
+  PetscReal       dn, qn, rel, est;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPConvergedDefault(ksp, it, rnorm, reason, c->dflt));
+  if (it == 0) {
+    PetscCall(VecZeroEntries(s->fw_prev)); /* x_0 = 0 */
+    s->fw_last          = -1;
+    s->fw_ratio         = 1;
+    s->fw_it            = 0;
+    s->forward_estimate = rnorm == 0 ? 0 : PETSC_INFINITY;
+  } else if (it != s->fw_it) {
+    PetscCall(BwMixedGetFields(s->mx, NULL, &isq));
+    PetscCall(KSPGetSolution(ksp, &x));
+    PetscCall(VecGetSubVector(x, isq, &xq));
+    PetscCall(VecWAXPY(s->fw_work, -1.0, s->fw_prev, xq));
+    PetscCall(VecPointwiseMult(s->fw_work, s->fw_work, s->fw_weight));
+    PetscCall(VecNorm(s->fw_work, NORM_INFINITY, &dn));
+    PetscCall(VecCopy(xq, s->fw_prev));
+    PetscCall(VecPointwiseMult(s->fw_work, xq, s->fw_weight));
+    PetscCall(VecNorm(s->fw_work, NORM_INFINITY, &qn));
+    PetscCall(VecRestoreSubVector(x, isq, &xq));
+    /* relative to the whole displacement field, prescribed values included:
+     * where loads vanish and only prescribed dofs move, the free dofs may be
+     * zero up to round-off (a relative correction of round-off to round-off
+     * read 7.0 on two blocks) */
+    qn  = PetscMax(qn, s->fw_prescribed);
+    rel = qn > 0 ? dn / qn : (dn > 0 ? PETSC_INFINITY : 0);
+    if (it == 1) est = rel == 0 ? 0 : PETSC_INFINITY;
+    else if (it == 2 || !(s->fw_last > 0)) est = rel;
+    else {
+      PetscReal rho = rel / s->fw_last, before = s->fw_ratio;
+      est           = rho < 0.5 && (it == 3 || before < 0.5) ? rel * rho / (1 - rho) : PetscMax(rel, s->fw_last);
+      s->fw_ratio   = rho;
+    }
+    PetscCall(PetscInfo(ksp, "step %" PetscInt_FMT ": displacement correction %.3e (relative), forward estimate %.3e\n", it, (double)rel, (double)est));
+    s->fw_last          = rel;
+    s->fw_it            = it;
+    s->forward_estimate = est;
+  }
+  if (*reason > 0 && !(s->forward_estimate <= s->forward_rtol)) *reason = KSP_CONVERGED_ITERATING;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverSetConvergenceTest(BwSolver s, KSP ksp)
+{
+  BwConvergedCtx *c;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&c));
+  c->s = s;
+  PetscCall(KSPConvergedDefaultCreate(&c->dflt));
+  PetscCall(KSPSetConvergenceTest(ksp, BwSolverConverged, c, BwConvergedCtxDestroy));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* 1-norm condition number of A from its factor (pc applies A^-1): Hager's
+ * estimator as refined by Higham (LAPACK's xLACN2), at most four pairs of
+ * solves, with Higham's alternating vector as a second guess. The estimate
+ * is a lower bound, in practice within a factor 3. A non-symmetric A needs
+ * the transposed solve. */
+PetscErrorCode BwSolverConditionEstimate(PC pc, Mat A, PetscBool symmetric, PetscReal *cond)
+{
+  Vec       x, y, z;
+  PetscInt  N, lo, hi, j;
+  PetscReal anorm, est = 0, ynorm, zmax, alt;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateVecs(A, &x, &y));
+  PetscCall(VecDuplicate(x, &z));
+  PetscCall(VecGetSize(x, &N));
+  PetscCall(VecGetOwnershipRange(x, &lo, &hi));
+  PetscCall(MatNorm(A, NORM_1, &anorm));
+  PetscCall(VecSet(x, 1.0 / N));
+  for (PetscInt k = 0; k < BW_CONDITION_ITERATIONS; k++) {
+    PetscScalar *a, ztx;
+    PetscCall(PCApply(pc, x, y));
+    PetscCall(VecNorm(y, NORM_1, &ynorm));
+    if (k > 0 && ynorm <= est) break;
+    est = ynorm;
+    PetscCall(VecGetArray(y, &a));
+    for (PetscInt i = 0; i < hi - lo; i++) a[i] = PetscRealPart(a[i]) >= 0 ? 1.0 : -1.0;
+    PetscCall(VecRestoreArray(y, &a));
+    if (symmetric) PetscCall(PCApply(pc, y, z));
+    else PetscCall(PCApplyTranspose(pc, y, z));
+    PetscCall(VecDot(z, x, &ztx));
+    PetscCall(VecAbs(z));
+    PetscCall(VecMax(z, &j, &zmax));
+    if (k > 0 && zmax <= PetscRealPart(ztx)) break;
+    PetscCall(VecZeroEntries(x));
+    if (j >= lo && j < hi) PetscCall(VecSetValue(x, j, 1.0, INSERT_VALUES));
+    PetscCall(VecAssemblyBegin(x));
+    PetscCall(VecAssemblyEnd(x));
+  }
+  {
+    PetscScalar *a;
+    PetscCall(VecGetArray(x, &a));
+    for (PetscInt i = lo; i < hi; i++) a[i - lo] = (i % 2 ? -1.0 : 1.0) * (1.0 + (N > 1 ? (PetscReal)i / (N - 1) : 0));
+    PetscCall(VecRestoreArray(x, &a));
+    PetscCall(PCApply(pc, x, y));
+    PetscCall(VecNorm(y, NORM_1, &alt));
+    est = PetscMax(est, 2 * alt / (3.0 * N));
+  }
+  *cond = anorm * est;
+  PetscCall(VecDestroy(&x));
+  PetscCall(VecDestroy(&y));
+  PetscCall(VecDestroy(&z));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverGetFactorPC(KSP ksp, PC *fpc, Mat *A)
+{
+  PC        pc;
+  KSP       inner;
+  PetscBool factor;
+
+  PetscFunctionBeginUser;
+  *fpc = NULL;
+  *A   = NULL;
+  PetscCall(BwSchurPCGetInner(ksp, &inner));
+  PetscCall(KSPGetPC(inner ? inner : ksp, &pc));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
+  *fpc = pc;
+  PetscCall(PCGetOperators(pc, A, NULL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Null pivots MUMPS found (INFOG(28)) in the factorisation a path used; 0
+ * when the path factored nothing with MUMPS. */
+PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
+{
+  PC  pc;
+  Mat A;
+
+  PetscFunctionBeginUser;
+  *npiv = 0;
+  PetscCall(BwSolverGetFactorPC(ksp, &pc, &A));
+  if (!pc) PetscFunctionReturn(PETSC_SUCCESS);
+#if defined(PETSC_HAVE_MUMPS)
+  {
+    Mat           F;
+    MatSolverType type;
+    PetscBool     mumps;
+    PetscCall(PCFactorGetMatrix(pc, &F));
+    PetscCall(MatFactorGetSolverType(F, &type));
+    PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
+    if (mumps) {
+      PetscInt v;
+      PetscCall(MatMumpsGetInfog(F, 28, &v));
+      *npiv = v;
+    }
+  }
+#endif
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,66 @@
+/* The inside of BwSolver, shared by the files of src/solver. */
+#pragma once
+#include <petscksp.h>
+#include "solver/solver.h"
+
+/* solver.schur */
+typedef enum { BW_SCHUR_AUTO = 0, BW_SCHUR_CHOLESKY = 1, BW_SCHUR_GAMG = 2, BW_SCHUR_HYPRE = 3 } BwSchurSolve;
+extern const char *const BwSchurSolves[];
+
+/* A path that ran or may run: its outer KSP, kept for the next solve. */
+typedef struct {
+  const char *name;   /* for messages: "fieldsplit", "fieldsplit with S^ factored", "direct (LU)" */
+  KSP         ksp;
+  BwMethod    method; /* what /solver calls it */
+  PetscBool   ran;
+} BwPath;
+
+struct _n_BwSolver {
+  MPI_Comm     comm;
+  BwMixed      mx;
+  BwMethod     requested;
+  PetscReal    rtol;
+  BwSchurSolve schur;      /* as given */
+  PetscBool    schur_iterative; /* the fieldsplit's Schur solve does not factor S^ */
+  BwStorage    storage;
+  PetscBool    direct_fits; /* small enough for a factorisation of the whole saddle matrix */
+  PetscInt     condition_when; /* -solver_condition_estimate: 0 auto, 1 always, 2 never */
+  PetscReal    forward_rtol;   /* -solver_forward_rtol, default solver.rtol */
+  /* the paths, in the order auto tries them */
+  BwPath       fieldsplit, cholesky, direct, condensed;
+  Mat          Kaij; /* the assembled saddle matrix of the direct path, built on demand */
+  /* outcome of the last solve */
+  BwMethod     used;
+  PetscBool    fallback;
+  char         fallback_reason[512];
+  PetscBool    accuracy_met;
+  char         warning[640];
+  PetscInt     iterations;
+  BwCheck      check;
+  PetscReal    forward_estimate;   /* forward error of the displacements, from the refinement; -1 not estimated */
+  PetscReal    condition_estimate; /* 1-norm condition of what was factored; -1 not estimated */
+  /* state of the forward estimate during one KSP solve */
+  Vec          fw_weight, fw_prev, fw_work;
+  PetscReal    fw_last, fw_ratio, fw_prescribed; /* last correction, last ratio of corrections */
+  PetscInt     fw_it;
+};
+
+/* schur.c: the Schur PC on an outer KSP, its Schur solve with prefix
+ * <outer prefix>schur_ (Cholesky when factor, else by solver.schur). */
+PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor);
+/* The KSP of the Schur solve of a fieldsplit path (NULL for other paths). */
+PetscErrorCode BwSchurPCGetInner(KSP outer, KSP *inner);
+/* Factor-PC defaults for a Cholesky or LU with the package this PETSc has:
+ * null-pivot detection with MUMPS. */
+PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, PetscBool lu, Mat A);
+PetscErrorCode BwSolverFactorDefaults(PC pc);
+
+/* estimates.c */
+PetscErrorCode BwSolverForwardSetUp(BwSolver s);
+PetscErrorCode BwSolverSetConvergenceTest(BwSolver s, KSP ksp);
+PetscErrorCode BwSolverConditionEstimate(PC pc, Mat A, PetscBool symmetric, PetscReal *cond);
+/* The factor a path used (the Schur complement's on fieldsplit, the whole
+ * system's on direct) and the matrix it factors; NULL when it factored
+ * nothing (CG + GAMG). */
+PetscErrorCode BwSolverGetFactorPC(KSP ksp, PC *fpc, Mat *A);
+PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv);

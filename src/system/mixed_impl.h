@@ -1,0 +1,64 @@
+/* The inside of BwMixed, shared by the files of src/system; nothing else
+ * includes it. */
+#pragma once
+#include "system/mixed.h"
+#include "util/log.h"
+
+/* A CSR matrix's values as PETSc holds them: row starts and values of the
+ * diagonal part (all of it on one rank) and of the off-diagonal part (NULL
+ * on one rank); a row's columns, sorted, fall into them in order. */
+typedef struct {
+  PetscInt  *di, *oi;
+  PetscReal *dv, *ov;
+} BwCSRValues;
+
+struct _n_BwMixed {
+  MPI_Comm   comm;
+  BwGeometry geom;
+  BwModel    model;
+  PetscInt   m;
+  /* layout (replicated): owner rank of each block and interface; per block
+   * the global row of its first dof in K (3 consecutive rows) and in the
+   * q vectors (columns of D^, rows of S^), -1 for a block without free dofs;
+   * per interface the global row of its first stress in K and in the r
+   * vectors (rows of D^) */
+  PetscMPIInt *block_owner, *interface_owner;
+  PetscInt    *krow_q, *qrow, *krow_r, *rrow;
+  PetscInt     nown_blocks, *own_blocks, nown_interfaces, *own_interfaces;
+  PetscInt     nown_q;          /* owned blocks with unknowns */
+  PetscInt     kstart, qstart, rstart, nlocal, nr_local, nq_local, nr_global, nq_global;
+  /* block -> interfaces (CSR, replicated) */
+  PetscInt *adj_offsets, *adj;
+  /* per block dof: 1/sqrt(diag S) of the elastic system, 1 where prescribed */
+  PetscReal *qscale;
+  /* the operators */
+  BwStorage storage;
+  Mat       K, D, S;
+  BwCSRValues svals; /* S^'s values as PETSc holds them, for the refill */
+  PetscInt   maxdeg; /* most interfaces of an owned block */
+  IS        isr, isq;
+  Vec       pmask;        /* q layout: 1 at prescribed dofs */
+  /* tangents: 4 per portion of the owned interfaces (physical), NULL for
+   * the elastic ones; and the interface stiffness K_G (9 per interface) of
+   * every interface touching an owned block, from them */
+  PetscReal *tangent;
+  PetscInt   nkg, *kg_interfaces; /* sorted */
+  PetscReal *kg;
+  VecScatter kg_scatter;          /* owners' K_G -> ranks that assemble rows with them */
+  Vec        kg_owned, kg_ghost;
+};
+
+/* Column offset (0 or 3) of block b in interface k's 6 columns. */
+static inline PetscInt BwSide(BwMixed mx, PetscInt k, PetscInt b) { return mx->geom->pair[2 * k] == b ? 0 : 3; }
+/* R B of interface k (rb[3][6]); PETSC_ERR_PLIB on a kernel failure. */
+PetscErrorCode BwMixedCompatibility(BwMixed mx, PetscInt k, PetscReal rb[18]);
+/* Interface k's scaling stiffness factors a_t = sqrt(A_p kt), a_n = sqrt(A_p kn). */
+void BwMixedPortionScales(BwMixed mx, PetscInt k, PetscReal *at, PetscReal *an);
+/* D^ as a shell (operator.c) or assembled (CSR rows of the owned interfaces). */
+PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D);
+PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscBool tangent, Mat *D);
+/* S^ (stiffness.c): pattern and values, and the refill. */
+PetscErrorCode BwMixedAssembleS(BwMixed mx);
+PetscErrorCode BwMixedRefillS(BwMixed mx);
+/* The matrix from local CSR rows (global columns, sorted), used in place. */
+PetscErrorCode BwMatFromCSR(BwMixed mx, PetscInt m, PetscInt n, PetscInt M, PetscInt N, const char prefix[], PetscInt *ia, PetscInt *ja, PetscReal *va, Mat *A, BwCSRValues *vals);

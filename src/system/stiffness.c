@@ -1,0 +1,249 @@
+/* S^ = D^T T D^ + P, the Schur complement of the scaled mixed system, in
+ * CSR, block size 3.
+ *
+ * Interface k contributes diag(s) (R B)^T K_G (R B) diag(s) to the rows of
+ * its two blocks (s the dof scales, zero at prescribed dofs, whose rows are
+ * identity rows), where K_G = sum_p A_p E_p^T C_p E_p condenses the
+ * portions' tangents C_p (bw_interface_condense): exact, because the (r,r)
+ * block of the scaled system is the identity. A rank assembles the rows of
+ * its own blocks only, summing every interface touching them: K_G of an
+ * elastic interface is computed where it is needed (the law's tangent is
+ * the same for every portion); with per-portion tangents the owner of an
+ * interface condenses them and one scatter brings K_G (9 numbers) to the
+ * ranks whose rows need it. Nothing is stashed for another rank.
+ *
+ * The pattern (a row per dof of an owned block with free dofs, three
+ * columns per such neighbour, itself included, sorted) is built once; new
+ * tangents rewrite the values in place, in the arrays PETSc uses, so that a
+ * factorisation can be redone without a new analysis (same nonzero
+ * pattern) and an AMG hierarchy can keep its aggregates. */
+#include "system/mixed_impl.h"
+#include "util/compat.h"
+#include "blockwall/kernels.h"
+
+/* The interfaces touching owned blocks with free dofs, sorted: the K_G
+ * the rows need. */
+static PetscErrorCode BwMixedStiffnessInterfaces(BwMixed mx)
+{
+  PetscInt n = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) n += mx->adj_offsets[mx->own_blocks[e] + 1] - mx->adj_offsets[mx->own_blocks[e]];
+  PetscCall(PetscMalloc1(n + 1, &mx->kg_interfaces));
+  n = 0;
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt b = mx->own_blocks[e];
+    if (mx->qrow[b] < 0) continue;
+    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) mx->kg_interfaces[n++] = mx->adj[a];
+  }
+  PetscCall(PetscSortRemoveDupsInt(&n, mx->kg_interfaces));
+  mx->nkg = n;
+  PetscCall(PetscMalloc1(9 * n + 1, &mx->kg));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* K_G (3x3, row-major) of interface k from its law's elastic tangent: the
+ * law evaluated at zero jump and a virgin state, the same for every
+ * portion. */
+static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal kg[9])
+{
+  BwGeometry  g = mx->geom;
+  BwJointLaw  law;
+  PetscReal   par[BW_LAW_NPAR], state[BW_LAW_NSTATE] = {0, 0, 0, 0}, jump[2] = {0, 0}, stress[2], tangent[4], state_out[BW_LAW_NSTATE];
+  signed char mode;
+  char        what[128];
+  int         status;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwModelInterfaceLaw(mx->model, k, &law, par));
+  PetscCall(PetscSNPrintf(what, sizeof(what), "interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ")", k, g->pair[2 * k], g->pair[2 * k + 1]));
+  PetscCall(BwJointLawEvaluate(law, par, 1, state, jump, stress, tangent, state_out, &mode, what));
+  bw_interface_condense((int)mx->m, g->length[k], g->depth, 1, tangent, kg, &status);
+  PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on %s", what);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* K_G of every interface the rows need, into mx->kg. */
+static PetscErrorCode BwMixedCondense(BwMixed mx)
+{
+  BwGeometry g = mx->geom;
+
+  PetscFunctionBeginUser;
+  if (!mx->tangent) {
+    for (PetscInt e = 0; e < mx->nkg; e++) PetscCall(BwMixedElasticStiffness(mx, mx->kg_interfaces[e], mx->kg + 9 * e));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  if (!mx->kg_scatter) {
+    PetscInt *slot;
+    IS        is;
+    PetscCall(VecCreateMPI(mx->comm, 9 * mx->nown_interfaces, PETSC_DETERMINE, &mx->kg_owned));
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, 9 * mx->nkg, &mx->kg_ghost));
+    PetscCall(PetscMalloc1(mx->nkg + 1, &slot));
+    /* an interface's place among all, in owner order, is its first stress row over 2m */
+    for (PetscInt e = 0; e < mx->nkg; e++) slot[e] = mx->rrow[mx->kg_interfaces[e]] / (2 * mx->m);
+    PetscCall(ISCreateBlock(PETSC_COMM_SELF, 9, mx->nkg, slot, PETSC_COPY_VALUES, &is));
+    PetscCall(VecScatterCreate(mx->kg_owned, is, mx->kg_ghost, NULL, &mx->kg_scatter));
+    PetscCall(ISDestroy(&is));
+    PetscCall(PetscFree(slot));
+  }
+  {
+    PetscScalar       *o;
+    const PetscScalar *gh;
+    PetscCall(VecGetArray(mx->kg_owned, &o));
+    for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+      PetscInt  k = mx->own_interfaces[e];
+      PetscReal kg[9];
+      int       status;
+      bw_interface_condense((int)mx->m, g->length[k], g->depth, (int)mx->m, mx->tangent + 4 * mx->m * e, kg, &status);
+      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+      for (PetscInt c = 0; c < 9; c++) o[9 * e + c] = kg[c];
+    }
+    PetscCall(VecRestoreArray(mx->kg_owned, &o));
+    PetscCall(VecScatterBegin(mx->kg_scatter, mx->kg_owned, mx->kg_ghost, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(mx->kg_scatter, mx->kg_owned, mx->kg_ghost, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecGetArrayRead(mx->kg_ghost, &gh));
+    for (PetscInt c = 0; c < 9 * mx->nkg; c++) mx->kg[c] = PetscRealPart(gh[c]);
+    PetscCall(VecRestoreArrayRead(mx->kg_ghost, &gh));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  PetscInt  *nbr, *col; /* neighbour blocks (with free dofs) of the row's block, sorted by q row; their first q rows */
+  PetscReal *acc;       /* 3 rows x 3 nn columns */
+} BwRowWork;
+
+/* The three rows of owned block b: columns (3 per neighbour with free dofs,
+ * in q-row order) and, with values, their entries. Returns the number of
+ * neighbours. */
+static PetscErrorCode BwMixedBlockRows(BwMixed mx, PetscInt b, PetscBool values, BwRowWork *w, PetscInt *nn)
+{
+  BwGeometry g = mx->geom;
+  PetscInt   n = 0;
+
+  PetscFunctionBeginUser;
+  w->nbr[n++] = mx->qrow[b];
+  for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
+    PetscInt k = mx->adj[a], o = g->pair[2 * k] == b ? g->pair[2 * k + 1] : g->pair[2 * k];
+    if (mx->qrow[o] >= 0) w->nbr[n++] = mx->qrow[o];
+  }
+  PetscCall(PetscSortRemoveDupsInt(&n, w->nbr));
+  *nn = n;
+  if (!values) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscArrayzero(w->acc, 9 * n));
+  for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
+    PetscInt  k = mx->adj[a], side = BwSide(mx, k, b), loc;
+    PetscReal rb[18], s6[36], sc[6];
+    int       status;
+    PetscCall(PetscFindInt(k, mx->nkg, mx->kg_interfaces, &loc));
+    PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface %" PetscInt_FMT " not condensed", k);
+    PetscCall(BwMixedCompatibility(mx, k, rb));
+    bw_interface_stiffness(rb, mx->kg + 9 * loc, s6, &status);
+    for (PetscInt c = 0; c < 6; c++) {
+      PetscInt blk = g->pair[2 * k + c / 3];
+      sc[c]        = mx->model->prescribed[3 * blk + c % 3] ? 0 : mx->qscale[3 * blk + c % 3];
+    }
+    for (PetscInt s = 0; s < 2; s++) {
+      PetscInt blk = g->pair[2 * k + s], f;
+      if (mx->qrow[blk] < 0) continue;
+      PetscCall(PetscFindInt(mx->qrow[blk], n, w->nbr, &f));
+      for (PetscInt r = 0; r < 3; r++)
+        for (PetscInt c = 0; c < 3; c++) w->acc[3 * n * r + 3 * f + c] += sc[side + r] * s6[6 * (side + r) + 3 * s + c] * sc[3 * s + c];
+    }
+  }
+  /* prescribed dofs: identity rows (their columns are zero already) */
+  {
+    PetscInt self;
+    PetscCall(PetscFindInt(mx->qrow[b], n, w->nbr, &self));
+    for (PetscInt r = 0; r < 3; r++)
+      if (mx->model->prescribed[3 * b + r]) w->acc[3 * n * r + 3 * self + r] = 1;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Writes the values of the owned rows into the arrays PETSc holds: each
+ * row's sorted columns fall in order into the diagonal part (columns of
+ * this rank) or the off-diagonal part. */
+static PetscErrorCode BwMixedWriteS(BwMixed mx, BwRowWork *w)
+{
+  PetscInt row = 0, cstart = mx->qstart, cend = mx->qstart + mx->nq_local;
+
+  PetscFunctionBeginUser;
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt b = mx->own_blocks[e], nn;
+    if (mx->qrow[b] < 0) continue;
+    PetscCall(BwMixedBlockRows(mx, b, PETSC_TRUE, w, &nn));
+    for (PetscInt r = 0; r < 3; r++, row++) {
+      PetscInt nd = mx->svals.di[row], no = mx->svals.oi ? mx->svals.oi[row] : 0;
+      for (PetscInt f = 0; f < nn; f++)
+        for (PetscInt c = 0; c < 3; c++) {
+          PetscReal v = w->acc[3 * nn * r + 3 * f + c];
+          if (w->nbr[f] >= cstart && w->nbr[f] < cend) mx->svals.dv[nd++] = v;
+          else mx->svals.ov[no++] = v;
+        }
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedAssembleS(BwMixed mx)
+{
+  PetscInt  *ia, *ja, row = 0;
+  PetscReal *va;
+  BwRowWork  w;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwMixedStiffnessInterfaces(mx));
+  PetscCall(BwMixedCondense(mx));
+  PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, 9 * (mx->maxdeg + 1), &w.acc));
+  /* pass 1: the pattern */
+  PetscCall(PetscMalloc1(mx->nq_local + 1, &ia));
+  ia[0] = 0;
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt b = mx->own_blocks[e], nn;
+    if (mx->qrow[b] < 0) continue;
+    PetscCall(BwMixedBlockRows(mx, b, PETSC_FALSE, &w, &nn));
+    for (PetscInt r = 0; r < 3; r++, row++) ia[row + 1] = ia[row] + 3 * nn;
+  }
+  PetscCall(PetscMalloc1(ia[mx->nq_local] + 1, &ja));
+  PetscCall(PetscCalloc1(ia[mx->nq_local] + 1, &va));
+  row = 0;
+  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+    PetscInt b = mx->own_blocks[e], nn;
+    if (mx->qrow[b] < 0) continue;
+    PetscCall(BwMixedBlockRows(mx, b, PETSC_FALSE, &w, &nn));
+    for (PetscInt r = 0; r < 3; r++, row++)
+      for (PetscInt f = 0; f < nn; f++)
+        for (PetscInt c = 0; c < 3; c++) ja[ia[row] + 3 * f + c] = w.nbr[f] + c;
+  }
+  /* the matrix PETSc uses in place, then the values written into it */
+  PetscCall(BwMatFromCSR(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "schur_", ia, ja, va, &mx->S, &mx->svals));
+  PetscCall(MatSetBlockSize(mx->S, 3));
+  PetscCall(BwMixedWriteS(mx, &w));
+  PetscCall(PetscFree3(w.nbr, w.col, w.acc));
+  PetscCall(MatSetOption(mx->S, MAT_SYMMETRIC, PETSC_TRUE));
+  PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedRefillS(BwMixed mx)
+{
+  BwRowWork w;
+  PetscBool symmetric = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_ASSEMBLE_S], 0, 0, 0, 0));
+  PetscCall(BwMixedCondense(mx));
+  PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, 9 * (mx->maxdeg + 1), &w.acc));
+  PetscCall(BwMixedWriteS(mx, &w));
+  PetscCall(PetscFree3(w.nbr, w.col, w.acc));
+  /* the values changed in place: whoever factored S^ must factor again */
+  PetscCall(BwMatValuesChanged(mx->S));
+  /* a non-associated flow (tan psi < tan phi) makes the tangents, and S^, unsymmetric */
+  for (PetscInt e = 0; mx->tangent && e < mx->nown_interfaces * mx->m && symmetric; e++) symmetric = (PetscBool)(mx->tangent[4 * e + 1] == mx->tangent[4 * e + 2]);
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &symmetric, 1, MPIU_BOOL, MPI_LAND, mx->comm));
+  PetscCall(MatSetOption(mx->S, MAT_SYMMETRIC, symmetric));
+  PetscCall(MatSetOption(mx->S, MAT_SPD, symmetric && !mx->tangent));
+  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_ASSEMBLE_S], 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
