@@ -521,8 +521,12 @@ PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
   } else PetscCall(PetscFree(mx->tangent));
   PetscCall(BwMixedRefillS(mx));
   if (mx->storage == BW_STORAGE_AIJ) {
-    PetscCall(MatDestroy(&mx->K));
-    PetscCall(BwMixedCreateAIJ(mx, &mx->K));
+    /* same pattern (a tangent mixes the two rows of a portion, whose
+     * columns are the same): new values into the matrix the KSPs hold */
+    Mat K;
+    PetscCall(BwMixedCreateAIJ(mx, &K));
+    PetscCall(MatCopy(K, mx->K, SAME_NONZERO_PATTERN));
+    PetscCall(MatDestroy(&K));
   } else PetscCall(BwMatValuesChanged(mx->K));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
