@@ -74,6 +74,8 @@ static PetscErrorCode BwLinearSetFromOptions(BwAnalysis a, BwProblem *p)
     PetscCall(PetscSNPrintf(prefix, sizeof(prefix), "cases_%s_", lin->cases[c]));
     PetscCall(BwModelSetLoads(p->model, p->scene, prefix));
   }
+  /* one operator, ncases right-hand sides: a factor pays */
+  PetscCall(BwSolverSetExpectedSolves(p->solver, lin->ncases));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

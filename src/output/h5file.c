@@ -11,6 +11,7 @@
 struct _n_BwH5File {
   MPI_Comm comm;
   hid_t    file, dxpl;
+  PetscBool serial; /* one rank: the POSIX driver */
   char     path[PETSC_MAX_PATH_LEN];
   int      failed; /* agreed by every rank */
   int      errnum; /* the system's reason, if any rank saw one */
@@ -57,7 +58,13 @@ PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], BwH5File *fp)
   PetscCall(PetscStrncpy(f->path, path, sizeof(f->path)));
   BwH5Try(f, fapl, H5Pcreate(H5P_FILE_ACCESS));
   if (fapl >= 0) {
-    BwH5Try(f, rc, H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL));
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(comm, &size));
+    /* one rank: the POSIX driver (MPI-IO's collective machinery costs 4x
+     * for nothing: 0.35 s against 0.09 s for the stresses of 1e5 blocks) */
+    f->serial = size == 1 ? PETSC_TRUE : PETSC_FALSE;
+    if (f->serial) BwH5Try(f, rc, H5Pset_fapl_sec2(fapl));
+    else BwH5Try(f, rc, H5Pset_fapl_mpio(fapl, comm, MPI_INFO_NULL));
     /* The 1.8 file format: attributes larger than 64 KB (the scene text of
      * a scene with thousands of keys) go to dense storage instead of failing. */
     if (rc >= 0) BwH5Try(f, rc, H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_LATEST));
@@ -69,7 +76,7 @@ PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], BwH5File *fp)
   H5Pclose(fapl);
   PetscCall(BwH5Agree(f, f->file < 0, err, "creating it"));
   BwH5Try(f, f->dxpl, H5Pcreate(H5P_DATASET_XFER));
-  if (f->dxpl >= 0) BwH5Try(f, rc, H5Pset_dxpl_mpio(f->dxpl, H5FD_MPIO_COLLECTIVE));
+  if (f->dxpl >= 0 && !f->serial) BwH5Try(f, rc, H5Pset_dxpl_mpio(f->dxpl, H5FD_MPIO_COLLECTIVE));
   PetscCall(BwH5Agree(f, f->dxpl < 0 || rc < 0, err, "setting up collective transfers"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

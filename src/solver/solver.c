@@ -6,11 +6,17 @@
 #include "util/compat.h"
 #include "util/factor.h"
 
-/* By size: a factorisation of S^ is exact and robust to stiffness contrast,
- * and as fast as CG + GAMG up to ~1e5 blocks; above, its fill grows faster
- * than N, while CG + GAMG stays near linear. The same size bounds the
- * direct path: its saddle matrix and factors would not fit beyond it. */
-#define BW_SCHUR_GAMG_BLOCKS 200000
+/* By size and by how often the operator is solved with. A factorisation
+ * of S^ is exact and robust to stiffness contrast; for one solve it is as
+ * fast as CG + GAMG up to ~5e4 blocks (bench/results.md: 1.06 s against
+ * 1.15 s at 3e4, 3.8 s against 3.0 s at 1e5, whole runs); a factor is
+ * reused by every further solve (load cases, load steps), where each CG +
+ * GAMG solve costs as much as the first, so with more than one solve it
+ * pays up to 2e5 blocks. Above, its fill grows faster than N while CG +
+ * GAMG stays near linear. The same size bounds the direct path: its saddle
+ * matrix and factors would not fit beyond it. */
+#define BW_SCHUR_GAMG_BLOCKS     200000
+#define BW_SCHUR_GAMG_BLOCKS_ONE 50000
 
 const char *const BwMethods[]     = {"auto", "fieldsplit", "direct", "condensed", "BwMethod", "BW_METHOD_", NULL};
 const char *const BwSchurSolves[] = {"auto", "cholesky", "gamg", "hypre", "BwSchurSolve", "BW_SCHUR_", NULL};
@@ -24,6 +30,7 @@ PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver)
   s->comm               = comm;
   s->requested          = BW_METHOD_AUTO;
   s->rtol               = 1e-10;
+  s->expected_solves    = 1;
   s->storage            = BW_STORAGE_SHELL;
   s->forward_rtol       = -1; /* = rtol unless set */
   s->forward_estimate   = -1;
@@ -74,7 +81,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   PetscCall(BwSceneRequireMapping(scene, "-solver", "method, rtol, ..."));
   PetscCall(BwSceneEnum(scene, "-solver_method", "auto (fieldsplit, a factorisation on failure), fieldsplit, direct, or condensed (benchmark reference)", 4, BwMethods, &method, NULL));
   PetscCall(BwSceneReal(scene, "-solver_rtol", "Required relative true residual of the full mixed system (scaled)", &s->rtol, NULL));
-  PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 2e5 blocks, gamg above), cholesky, gamg (CG + GAMG) or hypre (CG + BoomerAMG)", 4, BwSchurSolves, &schur, NULL));
+  PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 5e4 blocks, or 2e5 when the analysis solves more than once; gamg above), cholesky, gamg (CG + GAMG) or hypre (CG + BoomerAMG)", 4, BwSchurSolves, &schur, NULL));
   PetscCall(BwSceneReal(scene, "-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", &s->forward_rtol, &fset));
   PetscCall(BwSceneEnum(scene, "-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance), always, never", 3, when, &w, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_storage", "Saddle operator storage: shell (D^ by its structure), nest (D^ assembled) or aij (one assembled matrix)", 3, BwStorages, &storage, NULL));
@@ -163,6 +170,13 @@ static PetscErrorCode BwSolverCreateDirect(BwSolver s)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode BwSolverSetExpectedSolves(BwSolver s, PetscInt n)
+{
+  PetscFunctionBeginUser;
+  s->expected_solves = n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
 {
   BwMixedOwnership own;
@@ -170,7 +184,8 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
   PetscFunctionBeginUser;
   s->mx = mx;
   PetscCall(BwMixedGetOwnership(mx, &own));
-  s->schur_iterative = s->schur == BW_SCHUR_GAMG || s->schur == BW_SCHUR_HYPRE || (s->schur == BW_SCHUR_AUTO && own.nblocks >= BW_SCHUR_GAMG_BLOCKS) ? PETSC_TRUE : PETSC_FALSE;
+  if (s->schur == BW_SCHUR_AUTO) s->schur_iterative = own.nblocks >= (s->expected_solves > 1 ? BW_SCHUR_GAMG_BLOCKS : BW_SCHUR_GAMG_BLOCKS_ONE) ? PETSC_TRUE : PETSC_FALSE;
+  else s->schur_iterative = s->schur == BW_SCHUR_GAMG || s->schur == BW_SCHUR_HYPRE ? PETSC_TRUE : PETSC_FALSE;
   s->direct_fits     = own.nblocks < BW_SCHUR_GAMG_BLOCKS || s->requested == BW_METHOD_DIRECT ? PETSC_TRUE : PETSC_FALSE;
   if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_FIELDSPLIT) PetscCall(BwSolverCreateFieldsplit(s, &s->fieldsplit, NULL, PETSC_FALSE));
   PetscCall(BwSolverForwardSetUp(s));
@@ -311,7 +326,8 @@ typedef struct {
   BwCheck   check;
   BwMethod  method;
   PetscInt  its;
-  PetscReal fwd, cond;
+  PetscReal   fwd, cond;
+  const char *schur;
 } BwBest;
 
 static PetscErrorCode BwSolverKeepBest(BwSolver s, BwMethod method, Vec x, BwBest *best)
@@ -328,6 +344,7 @@ static PetscErrorCode BwSolverKeepBest(BwSolver s, BwMethod method, Vec x, BwBes
   best->its    = s->iterations;
   best->fwd    = s->forward_estimate;
   best->cond   = s->condition_estimate;
+  best->schur  = s->schur_used;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -335,7 +352,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
 {
   PetscBool ok = PETSC_FALSE, usable;
   char      reason[512] = "";
-  BwBest    best = {NULL, {0, 0, 0, 0}, BW_METHOD_FIELDSPLIT, 0, -1, -1};
+  BwBest    best = {NULL, {0, 0, 0, 0}, BW_METHOD_FIELDSPLIT, 0, -1, -1, NULL};
 
   PetscFunctionBeginUser;
   s->fallback           = PETSC_FALSE;
@@ -347,7 +364,8 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   if (s->requested != BW_METHOD_DIRECT) {
-    s->used = BW_METHOD_FIELDSPLIT;
+    s->used       = BW_METHOD_FIELDSPLIT;
+    s->schur_used = !s->schur_iterative ? "cholesky" : s->schur == BW_SCHUR_HYPRE ? "hypre" : "gamg";
     PetscCall(BwSolverRun(s, &s->fieldsplit, b, x, log, &ok, &usable, reason, sizeof(reason)));
     if (!ok) {
       if (usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_FIELDSPLIT, x, &best));
@@ -366,7 +384,8 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     PetscCall(BwFactorPackage(s->comm, PETSC_FALSE, &type));
     if (type) {
       if (!s->cholesky.ksp) PetscCall(BwSolverCreateFieldsplit(s, &s->cholesky, "cholesky_", PETSC_TRUE));
-      s->used = BW_METHOD_FIELDSPLIT;
+      s->used       = BW_METHOD_FIELDSPLIT;
+      s->schur_used = "cholesky";
       PetscCall(BwSolverRun(s, &s->cholesky, b, x, log, &ok, &usable, why, sizeof(why)));
       if (!ok && usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_FIELDSPLIT, x, &best));
       if (!ok) PetscCall(PetscStrncpy(reason, why, sizeof(reason)));
@@ -380,7 +399,8 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     else {
       char why[512];
       if (!s->direct.ksp) PetscCall(BwSolverCreateDirect(s));
-      s->used = BW_METHOD_DIRECT;
+      s->used       = BW_METHOD_DIRECT;
+      s->schur_used = "";
       PetscCall(BwSolverRun(s, &s->direct, b, x, log, &ok, &usable, why, sizeof(why)));
       if (!ok && usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_DIRECT, x, &best));
       if (!ok) PetscCall(PetscStrncpy(reason, why, sizeof(reason)));
@@ -394,6 +414,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     PetscCall(VecCopy(best.x, x));
     s->check              = best.check;
     s->used               = best.method;
+    s->schur_used         = best.schur;
     s->iterations         = best.its;
     s->forward_estimate   = best.fwd;
     s->condition_estimate = best.cond;
@@ -419,6 +440,7 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
   PetscFunctionBeginUser;
   PetscCall(BwReportString(r, "method_requested", BwMethods[s->requested]));
   PetscCall(BwReportString(r, "method_used", BwMethods[s->used]));
+  PetscCall(BwReportString(r, "schur_solve", s->used == BW_METHOD_FIELDSPLIT && s->schur_used ? s->schur_used : ""));
   PetscCall(BwReportInt(r, "fallback", s->fallback));
   PetscCall(BwReportString(r, "fallback_reason", s->fallback_reason));
   PetscCall(BwReportInt(r, "iterations", s->iterations));

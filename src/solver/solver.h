@@ -43,6 +43,10 @@ PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver);
 PetscErrorCode BwSolverSetFromOptions(BwSolver solver, BwScene scene);
 /* The storage the operators should use (solver.storage). */
 PetscErrorCode BwSolverGetStorage(BwSolver solver, BwStorage *storage);
+/* How many solves the analysis expects with the same operator values or
+ * pattern (load cases, load steps; default 1): auto factors S^ for larger
+ * assemblies when the factor will be reused. Before BwSolverSetUp. */
+PetscErrorCode BwSolverSetExpectedSolves(BwSolver solver, PetscInt n);
 /* Binds the solver to an assembled system and creates its KSPs (no
  * factorisation yet: that is the first solve's set-up phase). */
 PetscErrorCode BwSolverSetUp(BwSolver solver, BwMixed mixed);

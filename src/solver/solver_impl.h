@@ -23,6 +23,7 @@ struct _n_BwSolver {
   BwSchurSolve schur;      /* as given */
   PetscBool    schur_iterative; /* the fieldsplit's Schur solve does not factor S^ */
   BwStorage    storage;
+  PetscInt     expected_solves; /* solves the analysis will make with one operator (BwSolverSetExpectedSolves) */
   PetscBool    direct_fits; /* small enough for a factorisation of the whole saddle matrix */
   PetscInt     condition_when; /* -solver_condition_estimate: 0 auto, 1 always, 2 never */
   PetscReal    forward_rtol;   /* -solver_forward_rtol, default solver.rtol */
@@ -31,6 +32,7 @@ struct _n_BwSolver {
   Mat          Kaij; /* the assembled saddle matrix of the direct path, built on demand */
   /* outcome of the last solve */
   BwMethod     used;
+  const char  *schur_used; /* the Schur solve of the answer's fieldsplit path: cholesky | gamg | hypre; "" otherwise */
   PetscBool    fallback;
   char         fallback_reason[512];
   PetscBool    accuracy_met;

@@ -13,20 +13,23 @@
 #include "util/log.h"
 
 typedef struct {
-  PetscInt   nint, *ints; /* interfaces needed, sorted */
-  PetscInt   nblk, *blks; /* blocks needed, sorted */
-  PetscReal *r;           /* 2m per needed interface, physical */
-  PetscReal *q;           /* 3 per needed block, physical */
+  PetscInt           nint, *ints; /* interfaces needed, sorted */
+  PetscInt          *roff;        /* per needed interface: offset of its stresses in r, -1 when this rank holds them */
+  PetscInt           nblk, *blks; /* blocks needed, sorted */
+  PetscReal         *r;           /* 2m per interface held elsewhere, physical */
+  PetscReal         *q;           /* 3 per needed block, physical */
+  Vec                x;           /* the solution, read in place for what this rank holds */
+  const PetscScalar *xl;
 } BwGhosts;
 
 static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
 {
   BwGeometry         geom = mx->geom;
-  PetscInt           m2 = 2 * mx->m, n, *from;
+  PetscInt           m2 = 2 * mx->m, n, *from, lo = mx->kstart, hi = mx->kstart + mx->nlocal, nremote = 0, nrint = 0;
   IS                 isfrom;
   Vec                loc;
   VecScatter         sct;
-  const PetscScalar *a, *xl;
+  const PetscScalar *a;
 
   PetscFunctionBeginUser;
   /* needed interfaces and blocks */
@@ -49,72 +52,75 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   }
   PetscCall(PetscSortRemoveDupsInt(&gh->nblk, gh->blks));
 
-  /* Entries this rank holds are read in place; one scatter brings the
-   * others (none on one rank), in the order they are used below. */
-  {
-    PetscInt nremote = 0, lo = mx->kstart, hi = mx->kstart + mx->nlocal;
-    for (PetscInt e = 0; e < gh->nint; e++)
-      if (mx->krow_r[gh->ints[e]] < lo || mx->krow_r[gh->ints[e]] >= hi) nremote += m2;
-    for (PetscInt e = 0; e < gh->nblk; e++) {
-      PetscInt row = mx->krow_q[gh->blks[e]];
-      if (row >= 0 && (row < lo || row >= hi)) nremote += 3;
-    }
-    PetscCall(PetscMalloc1(nremote + 1, &from));
-    n = 0;
-    for (PetscInt e = 0; e < gh->nint; e++)
-      if (mx->krow_r[gh->ints[e]] < lo || mx->krow_r[gh->ints[e]] >= hi)
-        for (PetscInt p = 0; p < m2; p++) from[n++] = mx->krow_r[gh->ints[e]] + p;
-    for (PetscInt e = 0; e < gh->nblk; e++) {
-      PetscInt row = mx->krow_q[gh->blks[e]];
-      if (row >= 0 && (row < lo || row >= hi))
-        for (PetscInt c = 0; c < 3; c++) from[n++] = row + c;
-    }
-    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, from, PETSC_OWN_POINTER, &isfrom));
-    PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &loc));
-    PetscCall(VecScatterCreate(x, isfrom, loc, NULL, &sct));
-    PetscCall(VecScatterBegin(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterDestroy(&sct));
-    PetscCall(ISDestroy(&isfrom));
-
-    /* unscale */
-    PetscCall(PetscMalloc2(m2 * gh->nint + 1, &gh->r, 3 * gh->nblk + 1, &gh->q));
-    PetscCall(VecGetArrayRead(loc, &a));
-    PetscCall(VecGetArrayRead(x, &xl));
-    n = 0;
-    for (PetscInt e = 0; e < gh->nint; e++) {
-      PetscInt           k = gh->ints[e], row = mx->krow_r[k];
-      PetscBool          mine = row >= lo && row < hi;
-      const PetscScalar *src  = mine ? xl + (row - lo) : a + n;
-      PetscReal          at, an, ap = geom->depth * geom->length[k] / mx->m;
-      BwMixedPortionScales(mx, k, &at, &an);
-      for (PetscInt p = 0; p < mx->m; p++) {
-        gh->r[m2 * e + 2 * p]     = PetscRealPart(src[2 * p]) * at / ap;
-        gh->r[m2 * e + 2 * p + 1] = PetscRealPart(src[2 * p + 1]) * an / ap;
-      }
-      if (!mine) n += m2;
-    }
-    for (PetscInt e = 0; e < gh->nblk; e++) {
-      PetscInt         b = gh->blks[e], row = mx->krow_q[b];
-      const PetscReal *sc = &mx->qscale[3 * b];
-      PetscBool        mine = row >= lo && row < hi;
-      for (PetscInt c = 0; c < 3; c++) {
-        if (mx->model->prescribed[3 * b + c]) gh->q[3 * e + c] = mx->model->value[3 * b + c];
-        else gh->q[3 * e + c] = PetscRealPart(mine ? xl[row - lo + c] : a[n + c]) * sc[c];
-      }
-      if (row >= 0 && !mine) n += 3;
-    }
-    PetscCall(VecRestoreArrayRead(x, &xl));
-    PetscCall(VecRestoreArrayRead(loc, &a));
-    PetscCall(VecDestroy(&loc));
+  /* Entries this rank holds are read in place (no copy of its stresses);
+   * one scatter brings the others (none on one rank), in the order they
+   * are used below. */
+  PetscCall(PetscMalloc1(gh->nint + 1, &gh->roff));
+  for (PetscInt e = 0; e < gh->nint; e++) {
+    PetscInt row = mx->krow_r[gh->ints[e]];
+    gh->roff[e]  = row < lo || row >= hi ? m2 * nrint++ : -1;
   }
+  nremote = m2 * nrint;
+  for (PetscInt e = 0; e < gh->nblk; e++) {
+    PetscInt row = mx->krow_q[gh->blks[e]];
+    if (row >= 0 && (row < lo || row >= hi)) nremote += 3;
+  }
+  PetscCall(PetscMalloc1(nremote + 1, &from));
+  n = 0;
+  for (PetscInt e = 0; e < gh->nint; e++)
+    if (gh->roff[e] >= 0)
+      for (PetscInt p = 0; p < m2; p++) from[n++] = mx->krow_r[gh->ints[e]] + p;
+  for (PetscInt e = 0; e < gh->nblk; e++) {
+    PetscInt row = mx->krow_q[gh->blks[e]];
+    if (row >= 0 && (row < lo || row >= hi))
+      for (PetscInt c = 0; c < 3; c++) from[n++] = row + c;
+  }
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, from, PETSC_OWN_POINTER, &isfrom));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &loc));
+  PetscCall(VecScatterCreate(x, isfrom, loc, NULL, &sct));
+  PetscCall(VecScatterBegin(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(sct, x, loc, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterDestroy(&sct));
+  PetscCall(ISDestroy(&isfrom));
+
+  /* unscale what came from elsewhere; this rank's own stays in x */
+  PetscCall(PetscMalloc2(m2 * nrint + 1, &gh->r, 3 * gh->nblk + 1, &gh->q));
+  gh->x = x;
+  PetscCall(VecGetArrayRead(x, &gh->xl));
+  PetscCall(VecGetArrayRead(loc, &a));
+  n = 0;
+  for (PetscInt e = 0; e < gh->nint; e++) {
+    PetscInt  k = gh->ints[e];
+    PetscReal at, an, ap = geom->depth * geom->length[k] / mx->m;
+    if (gh->roff[e] < 0) continue;
+    BwMixedPortionScales(mx, k, &at, &an);
+    for (PetscInt p = 0; p < mx->m; p++) {
+      gh->r[gh->roff[e] + 2 * p]     = PetscRealPart(a[n + 2 * p]) * at / ap;
+      gh->r[gh->roff[e] + 2 * p + 1] = PetscRealPart(a[n + 2 * p + 1]) * an / ap;
+    }
+    n += m2;
+  }
+  for (PetscInt e = 0; e < gh->nblk; e++) {
+    PetscInt         b = gh->blks[e], row = mx->krow_q[b];
+    const PetscReal *sc = &mx->qscale[3 * b];
+    PetscBool        mine = row >= lo && row < hi;
+    for (PetscInt c = 0; c < 3; c++) {
+      if (mx->model->prescribed[3 * b + c]) gh->q[3 * e + c] = mx->model->value[3 * b + c];
+      else gh->q[3 * e + c] = PetscRealPart(mine ? gh->xl[row - lo + c] : a[n + c]) * sc[c];
+    }
+    if (row >= 0 && !mine) n += 3;
+  }
+  PetscCall(VecRestoreArrayRead(loc, &a));
+  PetscCall(VecDestroy(&loc));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 static PetscErrorCode BwGhostsFree(BwGhosts *gh)
 {
   PetscFunctionBeginUser;
+  PetscCall(VecRestoreArrayRead(gh->x, &gh->xl));
   PetscCall(PetscFree(gh->ints));
+  PetscCall(PetscFree(gh->roff));
   PetscCall(PetscFree(gh->blks));
   PetscCall(PetscFree2(gh->r, gh->q));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -131,26 +137,52 @@ static PetscErrorCode BwGhostBlock(const BwGhosts *gh, PetscInt b, const PetscRe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The physical stresses of interface k (2m, (shear, normal) per portion)
+ * into out[]: unscaled from x where this rank holds them, else gathered. */
+static PetscErrorCode BwGhostStress(BwMixed mx, const BwGhosts *gh, PetscInt k, PetscReal out[])
+{
+  PetscInt loc;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFindInt(k, gh->nint, gh->ints, &loc));
+  PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface %" PetscInt_FMT " not gathered", k);
+  if (gh->roff[loc] >= 0) PetscCall(PetscArraycpy(out, gh->r + gh->roff[loc], 2 * mx->m));
+  else {
+    const PetscScalar *src = gh->xl + (mx->krow_r[k] - mx->kstart);
+    PetscReal          at, an, ap = mx->geom->depth * mx->geom->length[k] / mx->m;
+    BwMixedPortionScales(mx, k, &at, &an);
+    for (PetscInt p = 0; p < mx->m; p++) {
+      out[2 * p]     = PetscRealPart(src[2 * p]) * at / ap;
+      out[2 * p + 1] = PetscRealPart(src[2 * p + 1]) * an / ap;
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBool stresses, BwResults *res)
 {
   BwGeometry geom = mx->geom;
   PetscInt   m = mx->m, m2 = 2 * m;
   BwGhosts   gh;
+  PetscReal *work;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(m2, &work));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
   PetscCall(BwGhostsGather(mx, x, &gh));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
   PetscCall(PetscCalloc5(3 * mx->nown_blocks + 1, &res->displacement, 3 * mx->nown_blocks + 1, &res->reaction, 3 * mx->nown_interfaces + 1, &res->relative, 3 * mx->nown_interfaces + 1, &res->resultant, stresses ? m2 * mx->nown_interfaces + 1 : 0, &res->stress));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt         k = mx->own_interfaces[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1], loc;
-    const PetscReal *qi, *qj, *r;
+    PetscInt         k = mx->own_interfaces[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
+    const PetscReal *qi, *qj;
+    PetscReal       *r;
     PetscReal        rb[18], *dg = &res->relative[3 * e];
     int              status;
 
-    PetscCall(PetscFindInt(k, gh.nint, gh.ints, &loc));
-    r = gh.r + m2 * loc;
+    /* output order (I, m, 2): the stresses' own order */
+    r = stresses ? &res->stress[m2 * e] : work;
+    PetscCall(BwGhostStress(mx, &gh, k, r));
     PetscCall(BwGhostBlock(&gh, i, &qi));
     PetscCall(BwGhostBlock(&gh, j, &qj));
     PetscCall(BwMixedCompatibility(mx, k, rb));
@@ -160,8 +192,6 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBo
     }
     bw_interface_resultants((int)m, geom->length[k], geom->depth, r, &res->resultant[3 * e], &status);
     PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
-    /* output order (I, m, 2): the stresses' own order */
-    if (stresses) PetscCall(PetscArraycpy(&res->stress[m2 * e], r, m2));
   }
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt         b = mx->own_blocks[e];
@@ -174,17 +204,18 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBo
     /* (D^T r)_b = sum over b's interfaces of (R B)_b^T (T, N, M), H r summed
      * from the stresses, whichever rank owns the interface */
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
-      PetscInt  k = mx->adj[a], side = BwSide(mx, k, b), loc;
+      PetscInt  k = mx->adj[a], side = BwSide(mx, k, b);
       PetscReal rb[18], h[3];
       int       status;
-      PetscCall(PetscFindInt(k, gh.nint, gh.ints, &loc));
-      bw_interface_resultants((int)m, geom->length[k], geom->depth, gh.r + m2 * loc, h, &status);
+      PetscCall(BwGhostStress(mx, &gh, k, work));
+      bw_interface_resultants((int)m, geom->length[k], geom->depth, work, h, &status);
       PetscCall(BwMixedCompatibility(mx, k, rb));
       for (PetscInt c = 0; c < 3; c++) f[c] += rb[side + c] * h[0] + rb[6 + side + c] * h[1] + rb[12 + side + c] * h[2];
     }
     for (PetscInt c = 0; c < 3; c++) res->reaction[3 * e + c] = mx->model->prescribed[3 * b + c] ? f[c] - load[3 * b + c] : 0;
   }
   PetscCall(BwGhostsFree(&gh));
+  PetscCall(PetscFree(work));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
