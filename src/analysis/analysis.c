@@ -19,6 +19,7 @@ static PetscErrorCode BwAnalysisRegisterAll(void)
   PetscFunctionBeginUser;
   if (BwAnalysisList) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(BwAnalysisRegister("linear", BwAnalysisCreate_Linear));
+  PetscCall(BwAnalysisRegister("pushover", BwAnalysisCreate_Pushover));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -54,3 +54,7 @@ PetscErrorCode BwProblemReport(BwProblem *p, BwReport report);
 /* After the first solve and before the first file: the options PETSc's
  * solvers read only when set up, now that they were; once. */
 PetscErrorCode BwProblemCheckOptions(BwProblem *p);
+/* With joints that have a strength: the solver told, before it is set up,
+ * that its operator will be refilled many times, may be non-symmetric and
+ * may be singular (a collapse, not an error to diagnose). */
+PetscErrorCode BwAnalysisSolverForJoints(BwProblem *p);

@@ -9,9 +9,17 @@
  * density); geometry, joints, supports and prescribed values are shared.
  * Case NAME goes to output.file with .NAME before the extension. A case
  * whose solve fails writes no file; the others are written and the run
- * ends with an error naming it. */
+ * ends with an error naming it.
+ *
+ * With joints that have a strength (joints.*.strength) a case is the
+ * equilibrium under its loads with those joints: the loads are applied
+ * from the unloaded state by Newton's method on the full mixed system
+ * (newton.h), in one step, cut in halves where it fails; the file also
+ * holds each portion's state and plastic jump. Loads the joints cannot
+ * carry are a failed case. */
 #include <string.h>
 #include "analysis/analysis.h"
+#include "analysis/newton.h"
 #include "util/compat.h"
 
 typedef struct {
@@ -58,6 +66,7 @@ static PetscErrorCode BwLinearSetFromOptions(BwAnalysis a, BwProblem *p)
   BwLinear *lin = (BwLinear *)a->data;
 
   PetscFunctionBeginUser;
+  PetscCall(BwAnalysisSolverForJoints(p));
   PetscCall(BwSceneHelpSection(p->scene, "Load cases (scene key cases.NAME.loads.<set>, cases.NAME.gravity.density)"));
   PetscCall(BwSceneRequireMapping(p->scene, "-cases", "NAME: {loads: {set: [F1, F2, M3]}, gravity: {density: ...}}"));
   PetscCall(BwLinearCaseNames(p->scene, &lin->ncases, &lin->cases));
@@ -79,6 +88,41 @@ static PetscErrorCode BwLinearSetFromOptions(BwAnalysis a, BwProblem *p)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Before the solver is set up: Newton refills the operator many times, a
+ * non-associated law makes it non-symmetric, and a singular tangent is a
+ * failed step rather than a mechanism to name. */
+PetscErrorCode BwAnalysisSolverForJoints(BwProblem *p)
+{
+  PetscFunctionBeginUser;
+  if (!p->model->nonlinear) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(BwSolverSetExpectedSolves(p->solver, 100));
+  PetscCall(BwSolverSetSymmetric(p->solver, BwModelTangentSymmetric(p->model)));
+  PetscCall(BwSolverSetDiagnose(p->solver, PETSC_FALSE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A case with nonlinear joints: its loads from the unloaded state
+ * (BwNewtonRamp); x the converged state. The Newton object is returned
+ * for the output of the joints' state. */
+static PetscErrorCode BwLinearJoints(BwProblem *p, Vec x, BwNewton *newton, PetscReal *residual)
+{
+  PetscInt    substeps;
+  PetscBool   ok;
+  Vec         xc;
+  const char *reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwNewtonCreate(p, p->model->load, NULL, newton));
+  PetscCall(BwLogBegin(p->log, BW_PHASE_SOLVE));
+  PetscCall(BwNewtonRamp(*newton, 1e-3, &substeps, &ok));
+  PetscCall(BwLogEnd(p->log, BW_PHASE_SOLVE));
+  PetscCall(BwNewtonGetResult(*newton, NULL, residual, &reason));
+  PetscCheck(ok, p->comm, PETSC_ERR_NOT_CONVERGED, "the joints cannot carry the loads: no equilibrium even with 1/1000 of them applied at a time (%s)", reason);
+  PetscCall(BwNewtonGetSolution(*newton, &xc, NULL));
+  PetscCall(VecCopy(xc, x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode BwLinearRun(BwAnalysis a, BwProblem *p)
 {
   BwLinear *lin    = (BwLinear *)a->data;
@@ -97,6 +141,8 @@ static PetscErrorCode BwLinearRun(BwAnalysis a, BwProblem *p)
     BwCheck        check;
     BwReport       report;
     PetscErrorCode ierr;
+    BwNewton       newton = NULL;
+    PetscReal      nwres  = -1;
 
     if (name) {
       char prefix[PETSC_MAX_OPTION_NAME];
@@ -104,12 +150,14 @@ static PetscErrorCode BwLinearRun(BwAnalysis a, BwProblem *p)
       PetscCall(BwModelSetLoads(p->model, p->scene, prefix));
     }
     PetscCall(BwMixedFillRHS(p->mixed, p->model->load, b));
-    ierr = BwSolverSolve(p->solver, b, x, p->log);
+    if (p->model->nonlinear) ierr = BwLinearJoints(p, x, &newton, &nwres);
+    else ierr = BwSolverSolve(p->solver, b, x, p->log);
     if (ierr && name) {
       /* the other cases still run; this one writes nothing */
       PetscCall(PetscSNPrintf(failed + strlen(failed), sizeof(failed) - strlen(failed), "%s%s", nfailed ? ", " : "", name));
       if (!nfailed) PetscCall(PetscStrncpy(first_error, BwErrorText(ierr), sizeof(first_error)));
       nfailed++;
+      PetscCall(BwNewtonDestroy(&newton));
       PetscCall(PetscPrintf(p->comm, "  case %s: FAILED: %s\n", name, BwErrorText(ierr)));
       continue;
     }
@@ -125,10 +173,27 @@ static PetscErrorCode BwLinearRun(BwAnalysis a, BwProblem *p)
     PetscCall(BwReportString(report, "analysis", "linear"));
     PetscCall(BwSolverReport(p->solver, report));
     PetscCall(BwReportReal(report, "equilibrium_error", check.equilibrium_error));
+    if (newton) {
+      /* the true residual of the nonlinear system, not of the last Newton
+       * correction's linear one; its equilibrium rows do not depend on the
+       * law (D^T r~ - F), its compatibility rows do */
+      PetscInt its, solves;
+      PetscCall(BwNewtonGetCounts(newton, &its, &solves, NULL));
+      PetscCall(BwReportReal(report, "residual", nwres));
+      PetscCall(BwReportReal(report, "residual_compatibility", -1));
+      PetscCall(BwReportInt(report, "newton_iterations", its));
+    }
     PetscCall(BwOutputCaseFile(p->output, name, file, sizeof(file)));
     PetscCall(BwLogBegin(p->log, BW_PHASE_WRITE));
     {
-      BwOutputData data = {p->mixed, &res, p->model->load, report, text, name};
+      BwOutputData data = {p->mixed, &res, p->model->load, report, text, name, NULL, NULL};
+      if (newton) {
+        BwJointField field;
+        PetscReal   *plastic;
+        PetscCall(BwNewtonGetSolution(newton, NULL, &field));
+        PetscCall(BwJointFieldGetState(field, &data.state, &plastic));
+        data.plastic = plastic;
+      }
       PetscCall(BwOutputWrite(p->output, file, &data, p->log));
     }
     PetscCall(BwLogEnd(p->log, BW_PHASE_WRITE));
@@ -137,6 +202,14 @@ static PetscErrorCode BwLinearRun(BwAnalysis a, BwProblem *p)
     PetscCall(PetscPrintf(p->comm, "  equilibrium error (reactions + loads) %.3e\n", (double)check.equilibrium_error));
     if (files[0]) PetscCall(PetscStrlcat(files, ", ", sizeof(files)));
     PetscCall(PetscStrlcat(files, file, sizeof(files)));
+    if (newton) {
+      BwJointField field;
+      PetscInt     count[4];
+      PetscCall(BwNewtonGetSolution(newton, NULL, &field));
+      PetscCall(BwJointFieldCount(field, count));
+      PetscCall(PetscPrintf(p->comm, "  joints: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic; residual of the nonlinear system %.3e\n", count[1], count[2], count[3], count[0], (double)nwres));
+    }
+    PetscCall(BwNewtonDestroy(&newton));
     PetscCall(BwReportDestroy(&report));
     PetscCall(BwResultsFree(&res));
   }

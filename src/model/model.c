@@ -108,6 +108,13 @@ static PetscErrorCode BwModelSetMap(BwGeometry g, BwNameMap *map)
 
 PetscErrorCode BwModelSetLoads(BwModel model, BwScene scene, const char prefix[])
 {
+  PetscFunctionBeginUser;
+  PetscCall(BwModelReadLoads(model, scene, prefix, PETSC_TRUE, model->load));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwModelReadLoads(BwModel model, BwScene scene, const char prefix[], PetscBool gravity, PetscReal load[])
+{
   BwGeometry g = model->geom;
   BwNameMap  sets;
   PetscInt   n;
@@ -117,7 +124,7 @@ PetscErrorCode BwModelSetLoads(BwModel model, BwScene scene, const char prefix[]
   size_t     plen;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscArrayzero(model->load, 3 * g->nblocks));
+  PetscCall(PetscArrayzero(load, 3 * g->nblocks));
   PetscCall(BwModelSetMap(g, &sets));
   /* loads.<set> = [F1, F2, M3] on every block of the set */
   PetscCall(PetscSNPrintf(key, sizeof(key), "%sloads_", prefix));
@@ -136,11 +143,12 @@ PetscErrorCode BwModelSetLoads(BwModel model, BwScene scene, const char prefix[]
     PetscCall(BwSceneRealArray(scene, opt, "F1, F2, M3 on every block of the set [N, N, N m]", &f, &nf, NULL));
     if (nf != 3) PetscCall(BwSceneError(scene, opt, "must have 3 values F1, F2, M3, got %" PetscInt_FMT, nf));
     for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++)
-      for (PetscInt c = 0; c < 3; c++) model->load[3 * g->setblocks[q] + c] += f[c];
+      for (PetscInt c = 0; c < 3; c++) load[3 * g->setblocks[q] + c] += f[c];
     PetscCall(PetscFree(f));
   }
   PetscCall(PetscStrArrayDestroy(&names));
   PetscCall(BwNameMapDestroy(&sets));
+  if (!gravity) PetscFunctionReturn(PETSC_SUCCESS);
   /* self-weight: a case may give its own density */
   if (prefix[0]) {
     PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%sgravity", prefix));
@@ -149,7 +157,7 @@ PetscErrorCode BwModelSetLoads(BwModel model, BwScene scene, const char prefix[]
     PetscCall(BwSceneReal(scene, opt, "Block density of this case [kg/m^3]", &density, &set));
     if (set && !(density >= 0)) PetscCall(BwSceneError(scene, opt, "must be >= 0, got %g", (double)density));
   }
-  for (PetscInt b = 0; b < g->nblocks; b++) model->load[3 * b + 1] -= density * BW_GRAVITY * g->area[b] * g->depth;
+  for (PetscInt b = 0; b < g->nblocks; b++) load[3 * b + 1] -= density * BW_GRAVITY * g->area[b] * g->depth;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -187,6 +195,15 @@ PetscErrorCode BwModelInterfaceLaw(BwModel model, PetscInt k, BwJointLaw *law, P
     par[BW_LAW_PAR_KT] = model->kt[k];
   }
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscBool BwModelTangentSymmetric(BwModel model)
+{
+  for (int kind = 0; kind < BW_JOINT_NKINDS; kind++) {
+    BwJointLaw law = model->law[kind];
+    if (law && law->strength && law->par[BW_LAW_PAR_TANPSI] != law->par[BW_LAW_PAR_TANPHI]) return PETSC_FALSE;
+  }
+  return PETSC_TRUE;
 }
 
 PetscErrorCode BwModelAllocate(BwModel model, BwGeometry g)

@@ -45,4 +45,10 @@ PetscErrorCode BwModelInterfaceLaw(BwModel model, PetscInt k, BwJointLaw *law, P
  * <prefix>gravity.density if given, else gravity.density), replacing the
  * current ones: prefix "" for the scene's loads, "cases_NAME_" for a case. */
 PetscErrorCode BwModelSetLoads(BwModel model, BwScene scene, const char prefix[]);
+/* The same into load[] (3 per block): <prefix>loads.<set>, and with
+ * `gravity` the self-weight as above. */
+PetscErrorCode BwModelReadLoads(BwModel model, BwScene scene, const char prefix[], PetscBool gravity, PetscReal load[]);
+/* Whether the joint laws' tangents stay symmetric: no law with strength
+ * has dilatancy other than its friction (non-associated flow). */
+PetscBool BwModelTangentSymmetric(BwModel model);
 PetscErrorCode BwModelDestroy(BwModel *model);

@@ -100,7 +100,7 @@ PetscErrorCode BwOutputSetFromOptions(BwOutput out, BwScene scene)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutputData *data, BwLog *log)
+static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutputData *data, const BwOutputHistory *hist, PetscBool have_steps, BwLog *log)
 {
   BwModel          model;
   BwGeometry       geom;
@@ -126,6 +126,7 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutput
   PetscCall(BwH5FileGroup(h, "/interfaces"));
   PetscCall(BwH5FileGroup(h, "/sets"));
   PetscCall(BwH5FileGroup(h, "/solver"));
+  if (out->xdmf && !have_steps) PetscCall(BwH5FileGroup(h, "/xdmf"));
 
   /* input schema, replicated */
   dims[0] = (hsize_t)geom->offsets[nb];
@@ -178,10 +179,27 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutput
     dims[2] = 2;
     PetscCall(BwH5FileWrite(h, "/interfaces/stress", H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, res->stress));
   }
+  if (data->state) {
+    dims[1] = (hsize_t)m;
+    dims[2] = 2;
+    PetscCall(BwH5FileWrite(h, "/interfaces/state", H5T_NATIVE_SCHAR, 2, dims, own.nown_interfaces, own.own_interfaces, data->state));
+    PetscCall(BwH5FileWrite(h, "/interfaces/plastic_jump", H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, data->plastic));
+  }
+  if (hist) {
+    int64_t *its;
+    PetscCall(BwH5FileGroup(h, "/history"));
+    dims[0] = (hsize_t)hist->n;
+    PetscCall(BwH5FileWriteAll(h, "/history/load_factor", H5T_NATIVE_DOUBLE, 1, dims, hist->load_factor));
+    PetscCall(BwH5FileWriteAll(h, "/history/monitor", H5T_NATIVE_DOUBLE, 1, dims, hist->monitor));
+    PetscCall(BwH5FileWriteAll(h, "/history/residual", H5T_NATIVE_DOUBLE, 1, dims, hist->residual));
+    PetscCall(PetscMalloc1(hist->n + 1, &its));
+    for (PetscInt i = 0; i < hist->n; i++) its[i] = hist->iterations ? hist->iterations[i] : 0;
+    PetscCall(BwH5FileWriteAll(h, "/history/iterations", H5T_NATIVE_INT64, 1, dims, its));
+    PetscCall(PetscFree(its));
+  }
   if (out->xdmf) { /* what the .xdmf beside this file needs and the schema lacks (xdmf.h) */
     BwXdmfData x;
     PetscCall(BwXdmfDataCreate(geom, own.nown_blocks, own.own_blocks, res->displacement, &x));
-    PetscCall(BwH5FileGroup(h, "/xdmf"));
     dims[0] = (hsize_t)x.ntopology;
     PetscCall(BwH5FileWriteAll(h, "/xdmf/topology", H5T_NATIVE_INT64, 1, dims, x.topology));
     dims[0] = 2 * (hsize_t)ni;
@@ -272,7 +290,7 @@ static void BwRemoveDirs(const char dir[], const char first[])
 /* An upper estimate of the result file's size: every dataset, the scene
  * text, and HDF5's headers (a few hundred bytes per object, a margin for
  * its metadata blocks). */
-static PetscLogDouble BwOutputBytes(BwOutput out, BwMixed mx, const char scene_text[])
+static PetscLogDouble BwOutputBytes(BwOutput out, BwMixed mx, const char scene_text[], PetscInt nsteps)
 {
   BwModel        model;
   BwGeometry     g;
@@ -287,6 +305,10 @@ static PetscLogDouble BwOutputBytes(BwOutput out, BwMixed mx, const char scene_t
   if (out->stresses) bytes += ni * model->m * 16;
   bytes += g->setoffsets[g->nsets] * 8.0 + g->nsets * 1024.0;
   if (out->xdmf) bytes += (nv + 2 * nb) * 8 + ni * (32 + 16) + nv * 24;
+  if (model->nonlinear) bytes += ni * model->m * 17.0;
+  /* each step: displacement, reaction, resultant, relative displacement,
+   * state, the stresses if asked, the vertex displacement for XDMF */
+  bytes += nsteps * (nb * 48.0 + ni * (48.0 + model->m * (1 + (out->stresses ? 16 : 0))) + (out->xdmf ? nv * 24.0 : 0) + 4096);
   bytes += 2.0 * strlen(scene_text) + 65536 + 64 * 1024.0;
   return 1.05 * bytes;
 }
@@ -307,84 +329,228 @@ PetscErrorCode BwOutputCaseFile(BwOutput out, const char casename[], char file[]
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwOutputWrite(BwOutput out, const char file[], const BwOutputData *data, BwLog *log)
+struct _n_BwOutputFile {
+  BwOutput   out;
+  BwMixed    mixed;
+  BwH5File   h;
+  char       file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN + 32], dir[PETSC_MAX_PATH_LEN], created[PETSC_MAX_PATH_LEN];
+  char       xdmf[PETSC_MAX_PATH_LEN + 8], xtmp[PETSC_MAX_PATH_LEN + 40];
+  PetscInt   nsteps, maxsteps, *steps; /* the steps written, for the XDMF's temporal collection (rank 0) */
+  PetscMPIInt rank;
+};
+
+/* Removes what an unpublished file left (rank 0). */
+static void BwOutputFileUnlink(BwOutputFile of)
 {
-  BwModel    model;
-  BwGeometry geom;
-  char           tmp[PETSC_MAX_PATH_LEN + 32], dir[PETSC_MAX_PATH_LEN], created[PETSC_MAX_PATH_LEN] = "", msg[3 * PETSC_MAX_PATH_LEN] = "";
-  char           xdmf[PETSC_MAX_PATH_LEN + 8], xtmp[PETSC_MAX_PATH_LEN + 40];
-  PetscMPIInt    rank;
+  if (of->rank != 0) return;
+  unlink(of->tmp);
+  unlink(of->xtmp);
+  BwTemporaryRemove(of->tmp);
+  BwTemporaryRemove(of->xtmp);
+  BwRemoveDirs(of->dir, of->created);
+}
+
+static PetscErrorCode BwOutputFileFree(BwOutputFile *of)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree((*of)->steps));
+  PetscCall(PetscFree(*of));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwOutputOpen(BwOutput out, const char file[], BwMixed mixed, const char scene[], PetscInt nsteps, BwOutputFile *ofp)
+{
+  BwOutputFile   of;
+  char           msg[3 * PETSC_MAX_PATH_LEN] = "";
   int            pid = (int)getpid(), ok = 1;
-  PetscErrorCode ierr, cerr;
-  BwH5File       h = NULL;
+  PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(out->comm, &rank));
+  *ofp = NULL;
+  PetscCall(PetscNew(&of));
+  of->out   = out;
+  of->mixed = mixed;
+  PetscCallMPI(MPI_Comm_rank(out->comm, &of->rank));
   PetscCallMPI(MPI_Bcast(&pid, 1, MPI_INT, 0, out->comm));
-  PetscCall(BwMixedGetModel(data->mixed, &model));
-  geom = model->geom;
-  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp-%d", file, pid));
-  PetscCall(BwXdmfPath(file, xdmf, sizeof(xdmf)));
-  PetscCall(PetscSNPrintf(xtmp, sizeof(xtmp), "%s.tmp-%d", xdmf, pid));
-  BwDirName(file, dir, sizeof(dir));
-  if (rank == 0) {
+  PetscCall(PetscStrncpy(of->file, file, sizeof(of->file)));
+  PetscCall(PetscSNPrintf(of->tmp, sizeof(of->tmp), "%s.tmp-%d", file, pid));
+  PetscCall(BwXdmfPath(file, of->xdmf, sizeof(of->xdmf)));
+  PetscCall(PetscSNPrintf(of->xtmp, sizeof(of->xtmp), "%s.tmp-%d", of->xdmf, pid));
+  BwDirName(file, of->dir, sizeof(of->dir));
+  if (of->rank == 0) {
     struct statvfs fs;
-    PetscLogDouble need = BwOutputBytes(out, data->mixed, data->scene);
-    if (BwMakeDirs(dir, created, sizeof(created))) {
+    PetscLogDouble need = BwOutputBytes(out, mixed, scene, nsteps);
+    if (BwMakeDirs(of->dir, of->created, sizeof(of->created))) {
       ok = 0;
-      snprintf(msg, sizeof(msg), "output.file: cannot create directory '%s': %s", dir, strerror(errno));
-    } else if (statvfs(dir, &fs) == 0 && (PetscLogDouble)fs.f_bavail * (PetscLogDouble)fs.f_frsize < need) {
+      snprintf(msg, sizeof(msg), "output.file: cannot create directory '%s': %s", of->dir, strerror(errno));
+    } else if (statvfs(of->dir, &fs) == 0 && (PetscLogDouble)fs.f_bavail * (PetscLogDouble)fs.f_frsize < need) {
       /* refused before a byte is written: a full disk met halfway ends in
        * a half-written file, which the temporary name only hides */
       ok = 0;
       snprintf(msg, sizeof(msg), "output.file: '%s' needs about %.3g MB and its file system has %.3g MB free; nothing was written", file, need / 1048576.0, (double)fs.f_bavail * (double)fs.f_frsize / 1048576.0);
-      BwRemoveDirs(dir, created);
+      BwRemoveDirs(of->dir, of->created);
     }
-    if (ok) PetscCall(BwTemporaryAdd(tmp));
-    if (ok && out->xdmf) PetscCall(BwTemporaryAdd(xtmp));
+    if (ok) PetscCall(BwTemporaryAdd(of->tmp));
+    if (ok && out->xdmf) PetscCall(BwTemporaryAdd(of->xtmp));
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, out->comm));
-  if (!ok) PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, 0, out->comm));
-  PetscCheck(ok, out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
+  if (!ok) {
+    PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, 0, out->comm));
+    PetscCall(BwOutputFileFree(&of));
+    SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
+  }
+  ierr = BwH5FileCreate(out->comm, of->tmp, &of->h);
+  if (ierr) {
+    const char *text = BwErrorText(ierr);
+    if (of->h) (void)BwH5FileClose(&of->h);
+    BwOutputFileUnlink(of);
+    PetscCall(BwOutputFileFree(&of));
+    SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "output.file: writing '%s' failed (%s); nothing was written", file, text[0] ? text : "HDF5 error");
+  }
+  *ofp = of;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
+PetscErrorCode BwOutputAbort(BwOutputFile *ofp)
+{
+  BwOutputFile of = *ofp;
+
+  PetscFunctionBeginUser;
+  if (!of) PetscFunctionReturn(PETSC_SUCCESS);
+  if (of->h) (void)BwH5FileClose(&of->h);
+  BwOutputFileUnlink(of);
+  PetscCall(BwOutputFileFree(ofp));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwOutputWriteStepData(BwOutputFile of, PetscInt step, const BwOutputData *data)
+{
+  BwOutput         out = of->out;
+  BwModel          model;
+  BwMixedOwnership own;
+  const BwResults *res = data->results;
+  char             g[64], name[128];
+  hsize_t          dims[3];
+
+  PetscFunctionBeginUser;
+  PetscCall(BwMixedGetModel(of->mixed, &model));
+  PetscCall(BwMixedGetOwnership(of->mixed, &own));
+  if (!of->nsteps) {
+    PetscCall(BwH5FileGroup(of->h, "/steps"));
+    if (out->xdmf) {
+      PetscCall(BwH5FileGroup(of->h, "/xdmf"));
+      PetscCall(BwH5FileGroup(of->h, "/xdmf/steps"));
+    }
+  }
+  PetscCall(PetscSNPrintf(g, sizeof(g), "/steps/%06" PetscInt_FMT, step));
+  PetscCall(BwH5FileGroup(of->h, g));
+  PetscCall(PetscSNPrintf(name, sizeof(name), "%s/blocks", g));
+  PetscCall(BwH5FileGroup(of->h, name));
+  PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces", g));
+  PetscCall(BwH5FileGroup(of->h, name));
+  dims[0] = (hsize_t)own.nblocks;
+  dims[1] = 3;
+  PetscCall(PetscSNPrintf(name, sizeof(name), "%s/blocks/displacement", g));
+  PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->displacement));
+  PetscCall(PetscSNPrintf(name, sizeof(name), "%s/blocks/reaction", g));
+  PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->reaction));
+  dims[0] = (hsize_t)own.ninterfaces;
+  PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/resultant", g));
+  PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->resultant));
+  PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/relative_displacement", g));
+  PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->relative));
+  dims[1] = (hsize_t)own.m;
+  dims[2] = 2;
+  if (data->state) {
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/state", g));
+    PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_SCHAR, 2, dims, own.nown_interfaces, own.own_interfaces, data->state));
+  }
+  if (out->stresses) {
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/stress", g));
+    PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, res->stress));
+  }
+  if (out->xdmf) {
+    BwXdmfData x;
+    PetscCall(BwXdmfDataCreate(model->geom, own.nown_blocks, own.own_blocks, res->displacement, &x));
+    PetscCall(PetscSNPrintf(name, sizeof(name), "/xdmf/steps/%06" PetscInt_FMT, step));
+    PetscCall(BwH5FileGroup(of->h, name));
+    PetscCall(PetscSNPrintf(name, sizeof(name), "/xdmf/steps/%06" PetscInt_FMT "/vertex_displacement", step));
+    dims[0] = (hsize_t)model->geom->offsets[own.nblocks];
+    dims[1] = 3;
+    PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, x.nvertex_rows, x.vertex_rows, x.vertex_displacement));
+    PetscCall(BwXdmfDataDestroy(&x));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwOutputWriteStep(BwOutputFile of, PetscInt step, const BwOutputData *data)
+{
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  ierr = BwOutputWriteStepData(of, step, data);
+  if (ierr) SETERRQ(of->out->comm, PETSC_ERR_FILE_WRITE, "output.file: writing step %" PetscInt_FMT " of '%s' failed (%s)", step, of->file, BwErrorText(ierr));
+  if (of->nsteps == of->maxsteps) {
+    of->maxsteps = PetscMax(16, 2 * of->maxsteps);
+    PetscCall(PetscRealloc(of->maxsteps * sizeof(PetscInt), &of->steps));
+  }
+  of->steps[of->nsteps++] = step;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwOutputClose(BwOutputFile *ofp, const BwOutputData *data, const BwOutputHistory *history, BwLog *log)
+{
+  BwOutputFile   of = *ofp;
+  BwOutput       out = of->out;
+  BwModel        model;
+  char           msg[3 * PETSC_MAX_PATH_LEN] = "";
+  int            ok = 1;
+  PetscErrorCode ierr, cerr;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwMixedGetModel(of->mixed, &model));
   /* every rank takes the same path through the file, failed or not */
-  ierr = BwH5FileCreate(out->comm, tmp, &h);
-  if (!ierr) ierr = BwOutputWriteFile(out, h, data, log);
-  cerr = BwH5FileClose(&h);
+  ierr = BwOutputWriteFile(out, of->h, data, history, of->nsteps > 0 ? PETSC_TRUE : PETSC_FALSE, log);
+  cerr = BwH5FileClose(&of->h);
   if (ierr || cerr) {
     const char *text = BwErrorText(cerr ? cerr : ierr);
-    if (rank == 0) {
-      unlink(tmp);
-      BwTemporaryRemove(tmp);
-      BwTemporaryRemove(xtmp);
-      BwRemoveDirs(dir, created);
-    }
+    char        file[PETSC_MAX_PATH_LEN];
+    PetscCall(PetscStrncpy(file, of->file, sizeof(file)));
+    BwOutputFileUnlink(of);
+    PetscCall(BwOutputFileFree(ofp));
     SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "output.file: writing '%s' failed (%s); nothing was written", file, text[0] ? text : "HDF5 error");
   }
   /* rank 0 publishes: the .xdmf, then both files renamed with signals
    * blocked, so that a reader finds the old pair or the new one */
-  if (rank == 0) {
-    const char *from[2] = {xtmp, tmp}, *to[2] = {xdmf, file};
+  if (of->rank == 0) {
+    const char *from[2] = {of->xtmp, of->tmp}, *to[2] = {of->xdmf, of->file};
     int         n = out->xdmf ? 2 : 1, failed;
     errno = 0;
-    if (out->xdmf && BwXdmfWrite(file, xtmp, geom)) {
+    if (out->xdmf && BwXdmfWrite(of->file, of->xtmp, model->geom, of->nsteps, of->steps, data->state ? model->m : 0, out->stresses)) {
       ok = 0;
-      snprintf(msg, sizeof(msg), "output.xdmf: cannot write '%s'%s%s; nothing was written", xdmf, errno ? ": " : "", errno ? strerror(errno) : "");
+      snprintf(msg, sizeof(msg), "output.xdmf: cannot write '%s'%s%s; nothing was written", of->xdmf, errno ? ": " : "", errno ? strerror(errno) : "");
     } else if (BwRenameAll(n, out->xdmf ? from : from + 1, out->xdmf ? to : to + 1, &failed)) {
       ok = 0;
       snprintf(msg, sizeof(msg), "output.file: cannot rename '%s' to '%s': %s; nothing was written", (out->xdmf ? from : from + 1)[failed], (out->xdmf ? to : to + 1)[failed], strerror(errno));
-      if (out->xdmf && failed == 1) unlink(xdmf); /* it describes a file that was not published */
+      if (out->xdmf && failed == 1) unlink(of->xdmf); /* it describes a file that was not published */
     }
-    if (!ok) {
-      unlink(xtmp);
-      unlink(tmp);
-      BwRemoveDirs(dir, created);
-    }
-    BwTemporaryRemove(tmp);
-    BwTemporaryRemove(xtmp);
+    if (!ok) BwOutputFileUnlink(of);
+    BwTemporaryRemove(of->tmp);
+    BwTemporaryRemove(of->xtmp);
   }
+  PetscCall(BwOutputFileFree(ofp));
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, out->comm));
   if (!ok) PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, 0, out->comm));
   PetscCheck(ok, out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwOutputWrite(BwOutput out, const char file[], const BwOutputData *data, BwLog *log)
+{
+  BwOutputFile of;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwOutputOpen(out, file, data->mixed, data->scene, 0, &of));
+  PetscCall(BwOutputClose(&of, data, NULL, log));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -27,7 +27,22 @@ typedef struct {
   BwReport         solver;   /* the /solver attributes */
   const char      *scene;    /* the scene as run */
   const char      *casename; /* root attribute case, or NULL */
+  /* nonlinear joints (NULL for elastic ones) */
+  const signed char *state;   /* m per owned interface: 0 elastic, 1 open, 2 sliding, 3 both */
+  const PetscReal   *plastic; /* 2m per owned interface: plastic slip and opening [m] */
 } BwOutputData;
+
+/* The history of an incremental analysis (rank 0's arrays; n converged
+ * steps, step 0 first). */
+typedef struct {
+  PetscInt         n;
+  const PetscReal *load_factor, *monitor, *residual;
+  const PetscInt  *iterations;
+} BwOutputHistory;
+
+/* A result file written over a run: steps as they converge, the final
+ * state and the attributes at the end, published (renamed) only then. */
+typedef struct _n_BwOutputFile *BwOutputFile;
 
 PetscErrorCode BwOutputCreate(MPI_Comm comm, BwOutput *out);
 /* Reads output.*; fails early if the target's directory cannot be written. */
@@ -39,4 +54,16 @@ PetscErrorCode BwOutputCaseFile(BwOutput out, const char casename[], char file[]
  * seconds_write is the time spent in it up to the attributes, which are
  * written last. */
 PetscErrorCode BwOutputWrite(BwOutput out, const char file[], const BwOutputData *data, BwLog *log);
+/* Opens `file` under a temporary name for a run that will write about
+ * nsteps steps (for the free-space check); collective. */
+PetscErrorCode BwOutputOpen(BwOutput out, const char file[], BwMixed mixed, const char scene[], PetscInt nsteps, BwOutputFile *of);
+/* Step `step` under /steps/NNNNNN: displacement, reaction, resultant,
+ * relative displacement, state and (output.stresses) stress. */
+PetscErrorCode BwOutputWriteStep(BwOutputFile of, PetscInt step, const BwOutputData *data);
+/* The final state, the history (NULL: none) and the attributes; then the
+ * file (and its .xdmf, a temporal collection over the steps written) is
+ * published. *of is NULL afterwards, whatever happened. */
+PetscErrorCode BwOutputClose(BwOutputFile *of, const BwOutputData *data, const BwOutputHistory *history, BwLog *log);
+/* Drops an open file: nothing is published. */
+PetscErrorCode BwOutputAbort(BwOutputFile *of);
 PetscErrorCode BwOutputDestroy(BwOutput *out);

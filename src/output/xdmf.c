@@ -151,25 +151,21 @@ static PetscErrorCode BwXdmfField(FILE *fp, const char ref[], const char name[],
   PetscFunctionBeginUser;
   if (width > 1) PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " %" PetscInt_FMT, n, width));
   else PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, n));
-  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"%s\">\n", name, width > 1 ? "Vector" : "Scalar", center));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"%s\">\n", name, width == 1 ? "Scalar" : width <= 3 ? "Vector" : "Matrix", center));
   PetscCall(BwXdmfItem(fp, "        ", ref, path, dims, type, precision));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Attribute>\n"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom)
+/* The two grids of one state: `at` is "" for the file's final state, or
+ * a step's group "/steps/NNNNNN" (with "/xdmf/steps/NNNNNN" for its vertex
+ * displacement); `ind` the indentation. */
+static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, const char at[], PetscInt step, PetscInt m_state)
 {
-  const char *slash = strrchr(h5file, '/');
-  char        ref[3 * PETSC_MAX_PATH_LEN], dims[64];
-  PetscInt    nb = geom->nblocks, nv = geom->offsets[nb], ni = geom->ninterfaces;
-  FILE       *fp;
+  char     dims[64], path[128], topo[128];
+  PetscInt nb = geom->nblocks, nv = geom->offsets[nb], ni = geom->ninterfaces;
 
   PetscFunctionBeginUser;
-  PetscCall(BwXmlEscape(slash ? slash + 1 : h5file, ref, sizeof(ref)));
-  PetscCall(PetscFOpen(PETSC_COMM_SELF, xdmffile, "w", &fp));
-  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<?xml version=\"1.0\" ?>\n<!-- blockwall %s: blocks and interfaces of the HDF5 file named below, which must stay beside this file -->\n", BW_VERSION));
-  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<Xdmf Version=\"3.0\">\n  <Domain>\n"));
-
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Grid Name=\"blocks\" GridType=\"Uniform\">\n"));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Mixed\" NumberOfElements=\"%" PetscInt_FMT "\">\n", nb));
   PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, BwXdmfTopologyLength(geom)));
@@ -178,11 +174,17 @@ PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometr
   PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", nv));
   PetscCall(BwXdmfItem(fp, "        ", ref, "/blocks/vertices", dims, "Float", 8));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
-  PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", "/xdmf/vertex_displacement", nv, 3, "Float", 8));
-  PetscCall(BwXdmfField(fp, ref, "displacement", "Cell", "/blocks/displacement", nb, 3, "Float", 8));
-  PetscCall(BwXdmfField(fp, ref, "reaction", "Cell", "/blocks/reaction", nb, 3, "Float", 8));
-  PetscCall(BwXdmfField(fp, ref, "load", "Cell", "/blocks/load", nb, 3, "Float", 8));
-  PetscCall(BwXdmfField(fp, ref, "prescribed", "Cell", "/blocks/prescribed", nb, 3, "Char", 1));
+  if (step >= 0) PetscCall(PetscSNPrintf(topo, sizeof(topo), "/xdmf/steps/%06" PetscInt_FMT "/vertex_displacement", step));
+  else PetscCall(PetscStrncpy(topo, "/xdmf/vertex_displacement", sizeof(topo)));
+  PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", topo, nv, 3, "Float", 8));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/blocks/displacement", at));
+  PetscCall(BwXdmfField(fp, ref, "displacement", "Cell", path, nb, 3, "Float", 8));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/blocks/reaction", at));
+  PetscCall(BwXdmfField(fp, ref, "reaction", "Cell", path, nb, 3, "Float", 8));
+  if (step < 0) {
+    PetscCall(BwXdmfField(fp, ref, "load", "Cell", "/blocks/load", nb, 3, "Float", 8));
+    PetscCall(BwXdmfField(fp, ref, "prescribed", "Cell", "/blocks/prescribed", nb, 3, "Char", 1));
+  }
   PetscCall(BwXdmfField(fp, ref, "centroid", "Cell", "/blocks/centroid", nb, 2, "Float", 8));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    </Grid>\n"));
 
@@ -196,12 +198,49 @@ PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometr
     PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", 2 * ni));
     PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_points", dims, "Float", 8));
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
-    PetscCall(BwXdmfField(fp, ref, "resultant", "Cell", "/interfaces/resultant", ni, 3, "Float", 8));
-    PetscCall(BwXdmfField(fp, ref, "relative_displacement", "Cell", "/interfaces/relative_displacement", ni, 3, "Float", 8));
+    PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interfaces/resultant", at));
+    PetscCall(BwXdmfField(fp, ref, "resultant", "Cell", path, ni, 3, "Float", 8));
+    PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interfaces/relative_displacement", at));
+    PetscCall(BwXdmfField(fp, ref, "relative_displacement", "Cell", path, ni, 3, "Float", 8));
+    if (m_state > 0) {
+      /* the mode of each portion: m components per interface */
+      PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interfaces/state", at));
+      PetscCall(BwXdmfField(fp, ref, "state", "Cell", path, ni, m_state, "Char", 1));
+    }
     PetscCall(BwXdmfField(fp, ref, "kn", "Cell", "/interfaces/kn", ni, 1, "Float", 8));
     PetscCall(BwXdmfField(fp, ref, "kt", "Cell", "/interfaces/kt", ni, 1, "Float", 8));
     PetscCall(BwXdmfField(fp, ref, "blocks", "Cell", "/interfaces/blocks", ni, 2, "Int", 8));
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    </Grid>\n"));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom, PetscInt nsteps, const PetscInt steps[], PetscInt m_state, PetscBool stresses)
+{
+  const char *slash = strrchr(h5file, '/');
+  char        ref[3 * PETSC_MAX_PATH_LEN];
+  FILE       *fp;
+
+  PetscFunctionBeginUser;
+  (void)stresses;
+  PetscCall(BwXmlEscape(slash ? slash + 1 : h5file, ref, sizeof(ref)));
+  PetscCall(PetscFOpen(PETSC_COMM_SELF, xdmffile, "w", &fp));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<?xml version=\"1.0\" ?>\n<!-- blockwall %s: blocks and interfaces of the HDF5 file named below, which must stay beside this file -->\n", BW_VERSION));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<Xdmf Version=\"3.0\">\n  <Domain>\n"));
+  if (!nsteps) PetscCall(BwXdmfGrids(fp, ref, geom, "", -1, m_state));
+  else {
+    /* a temporal collection over the written steps (time = step number,
+     * which grows where the load factor may not): ParaView plays it */
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  <Grid Name=\"steps\" GridType=\"Collection\" CollectionType=\"Temporal\">\n"));
+    for (PetscInt s = 0; s < nsteps; s++) {
+      char at[64];
+      PetscCall(PetscSNPrintf(at, sizeof(at), "/steps/%06" PetscInt_FMT, steps[s]));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  <Grid Name=\"step %06" PetscInt_FMT "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", steps[s]));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Time Value=\"%" PetscInt_FMT "\"/>\n", steps[s]));
+      PetscCall(BwXdmfGrids(fp, ref, geom, at, steps[s], m_state));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  </Grid>\n"));
+    }
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  </Grid>\n"));
   }
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  </Domain>\n</Xdmf>\n"));
   PetscCheck(!ferror(fp), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "output.xdmf: cannot write '%s'", xdmffile);

@@ -37,5 +37,8 @@ PetscErrorCode BwXdmfDataDestroy(BwXdmfData *x);
 /* The XDMF path of a result file: its extension replaced by .xdmf. */
 PetscErrorCode BwXdmfPath(const char h5file[], char xdmffile[], size_t len);
 /* Writes xdmffile describing h5file (only its basename is referenced);
- * serial, called by one rank once the HDF5 file is complete. */
-PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom);
+ * serial, called by one rank once the HDF5 file is complete. With nsteps
+ * > 0, a temporal collection over the steps written (/steps/NNNNNN, their
+ * vertex displacement in /xdmf/steps/NNNNNN); m_state > 0: the portions'
+ * state (/interfaces/state, m per interface) is a field. */
+PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom, PetscInt nsteps, const PetscInt steps[], PetscInt m_state, PetscBool stresses);

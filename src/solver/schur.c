@@ -158,13 +158,13 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
   PetscCall(KSPGetPC(ctx->inner, &ipc));
   if (!iterative) {
     PetscCall(KSPSetType(ctx->inner, KSPPREONLY));
-    PetscCall(BwSolverSetFactor(s, ipc, PETSC_FALSE, S));
+    PetscCall(BwSolverSetFactor(s, ipc, s->symmetric ? PETSC_FALSE : PETSC_TRUE, S));
   } else if (s->schur == BW_SCHUR_HYPRE) {
-    PetscCall(KSPSetType(ctx->inner, KSPCG));
+    PetscCall(KSPSetType(ctx->inner, s->symmetric ? KSPCG : KSPGMRES));
     PetscCall(PCSetType(ipc, PCHYPRE));
     PetscCall(KSPSetTolerances(ctx->inner, 1e-5, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   } else {
-    PetscCall(KSPSetType(ctx->inner, KSPCG));
+    PetscCall(KSPSetType(ctx->inner, s->symmetric ? KSPCG : KSPGMRES));
     PetscCall(PCSetType(ipc, PCGAMG));
     /* values refilled with the same pattern keep the aggregates and the
      * interpolation: a new step re-smooths, it does not re-coarsen */

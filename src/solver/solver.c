@@ -31,6 +31,8 @@ PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver)
   s->requested          = BW_METHOD_AUTO;
   s->rtol               = 1e-10;
   s->expected_solves    = 1;
+  s->symmetric          = PETSC_TRUE;
+  s->diagnose           = PETSC_TRUE;
   s->storage            = BW_STORAGE_SHELL;
   s->forward_rtol       = -1; /* = rtol unless set */
   s->forward_estimate   = -1;
@@ -145,6 +147,7 @@ static PetscErrorCode BwSolverCreateDirect(BwSolver s)
 
   PetscFunctionBeginUser;
   PetscCall(BwMixedCreateAIJ(s->mx, &s->Kaij));
+  PetscCall(BwMixedGetValuesState(s->mx, &s->kaij_state));
   PetscCall(BwSolverOuterKSP(s, "direct_", 5, &s->direct.ksp));
   PetscCall(KSPSetOperators(s->direct.ksp, s->Kaij, s->Kaij));
   PetscCall(KSPGetPC(s->direct.ksp, &pc));
@@ -167,6 +170,21 @@ static PetscErrorCode BwSolverCreateDirect(BwSolver s)
   }
 #endif
   PetscCall(BwSolverSetConvergenceTest(s, s->direct.ksp));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverSetSymmetric(BwSolver s, PetscBool symmetric)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(!s->mx, s->comm, PETSC_ERR_ORDER, "BwSolverSetSymmetric after BwSolverSetUp");
+  s->symmetric = symmetric;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverSetDiagnose(BwSolver s, PetscBool diagnose)
+{
+  PetscFunctionBeginUser;
+  s->diagnose = diagnose;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -399,6 +417,18 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     else {
       char why[512];
       if (!s->direct.ksp) PetscCall(BwSolverCreateDirect(s));
+      else {
+        /* new tangents since it was assembled: the same pattern, new values */
+        PetscInt state;
+        PetscCall(BwMixedGetValuesState(s->mx, &state));
+        if (state != s->kaij_state) {
+          Mat K;
+          PetscCall(BwMixedCreateAIJ(s->mx, &K));
+          PetscCall(MatCopy(K, s->Kaij, SAME_NONZERO_PATTERN));
+          PetscCall(MatDestroy(&K));
+          s->kaij_state = state;
+        }
+      }
       s->used       = BW_METHOD_DIRECT;
       s->schur_used = "";
       PetscCall(BwSolverRun(s, &s->direct, b, x, log, &ok, &usable, why, sizeof(why)));
@@ -429,7 +459,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
   PetscCall(VecDestroy(&best.x));
   if (!ok) {
     /* no usable answer: a mechanism the static checks missed is named */
-    PetscCall(BwMixedCheckMechanism(s->mx, reason));
+    if (s->diagnose) PetscCall(BwMixedCheckMechanism(s->mx, reason));
     SETERRQ(s->comm, PETSC_ERR_NOT_CONVERGED, "solver failed: %s%s%s%s", reason, s->fallback ? "; before it, " : "", s->fallback ? s->fallback_reason : "", s->requested == BW_METHOD_FIELDSPLIT ? " (solver.method: auto would fall back to a factorisation)" : "");
   }
   PetscFunctionReturn(PETSC_SUCCESS);

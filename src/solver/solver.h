@@ -47,6 +47,14 @@ PetscErrorCode BwSolverGetStorage(BwSolver solver, BwStorage *storage);
  * pattern (load cases, load steps; default 1): auto factors S^ for larger
  * assemblies when the factor will be reused. Before BwSolverSetUp. */
 PetscErrorCode BwSolverSetExpectedSolves(BwSolver solver, PetscInt n);
+/* Whether the operators stay symmetric (default): with non-symmetric
+ * joint tangents (dilatancy below friction) S^ is factored by LU and an
+ * iterative Schur solve is GMRES. Before BwSolverSetUp. */
+PetscErrorCode BwSolverSetSymmetric(BwSolver solver, PetscBool symmetric);
+/* Whether a solve that finds no usable answer looks for a mechanism to
+ * name (default; one more factorisation). A nonlinear analysis, for which
+ * a singular tangent is the collapse it is looking for, turns it off. */
+PetscErrorCode BwSolverSetDiagnose(BwSolver solver, PetscBool diagnose);
 /* Binds the solver to an assembled system and creates its KSPs (no
  * factorisation yet: that is the first solve's set-up phase). */
 PetscErrorCode BwSolverSetUp(BwSolver solver, BwMixed mixed);

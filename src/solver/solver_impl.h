@@ -30,6 +30,9 @@ struct _n_BwSolver {
   /* the paths, in the order auto tries them */
   BwPath       fieldsplit, cholesky, direct, condensed;
   Mat          Kaij; /* the assembled saddle matrix of the direct path, built on demand */
+  PetscInt     kaij_state; /* the operators' values state Kaij holds */
+  PetscBool    symmetric;  /* the operators stay symmetric (else LU and GMRES where Cholesky and CG) */
+  PetscBool    diagnose;   /* a failed solve names a mechanism (an extra factorisation) */
   /* outcome of the last solve */
   BwMethod     used;
   const char  *schur_used; /* the Schur solve of the answer's fieldsplit path: cholesky | gamg | hypre; "" otherwise */

@@ -89,6 +89,7 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
   mx->comm  = geom->comm;
   mx->geom  = geom;
   mx->model = model;
+  mx->spring_block = -1;
   mx->m     = model->m;
   m2        = 2 * mx->m;
   PetscCallMPI(MPI_Comm_size(mx->comm, &size));
@@ -238,6 +239,13 @@ PetscErrorCode BwMixedGetOperators(BwMixed mx, Mat *K, Mat *S, Mat *D)
   if (K) *K = mx->K;
   if (S) *S = mx->S;
   if (D) *D = mx->D;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedGetValuesState(BwMixed mx, PetscInt *state)
+{
+  PetscFunctionBeginUser;
+  *state = mx->values_state;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -46,6 +46,12 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed);
  * physical dr/dj in the order of BwMixedGetOwnership's interfaces (NULL:
  * the elastic ones). S^'s values are refilled in place and K follows. */
 PetscErrorCode BwMixedSetTangents(BwMixed mixed, const PetscReal tangent[]);
+/* A spring of `stiffness` (scaled: 1 is the dof's own elastic stiffness)
+ * on dof `dof` of `block` in K and S^ (block -1: none). Displacement
+ * control solves with it, so that the Newton matrix stays regular on a
+ * plateau where the structure has no stiffness along the monitor dof; the
+ * residual (BwMixedResidual) never sees it. */
+PetscErrorCode BwMixedSetSpring(BwMixed mixed, PetscInt block, PetscInt dof, PetscReal stiffness);
 /* The right-hand side for loads F (3 per block, physical) and the model's
  * prescribed values; the one place b is filled. */
 PetscErrorCode BwMixedFillRHS(BwMixed mixed, const PetscReal load[], Vec b);
@@ -53,6 +59,9 @@ PetscErrorCode BwMixedFillRHS(BwMixed mixed, const PetscReal load[], Vec b);
 PetscErrorCode BwMixedCreateVecs(BwMixed mixed, Vec *x, Vec *b);
 /* The whole operator K, the Schur complement S^, D^ (r rows, q columns). */
 PetscErrorCode BwMixedGetOperators(BwMixed mixed, Mat *K, Mat *S, Mat *D);
+/* A counter bumped by every BwMixedSetTangents: a copy of the operators
+ * (the direct path's assembled K) is stale when it differs. */
+PetscErrorCode BwMixedGetValuesState(BwMixed mixed, PetscInt *state);
 /* The stress rows and the dof rows of a K-vector (contiguous on each rank). */
 PetscErrorCode BwMixedGetFields(BwMixed mixed, IS *isr, IS *isq);
 /* Applies the tangent T to the stress part (in place): y_r <- T y_r. */
@@ -68,6 +77,18 @@ PetscErrorCode BwMixedSetNearNullSpace(BwMixed mixed);
  * the assembly's size for rotations), 0 at prescribed dofs; and the largest
  * weighted prescribed value. */
 PetscErrorCode BwMixedForwardWeights(BwMixed mixed, Vec weight, PetscReal *prescribed);
+
+/* Nonlinear joints (nonlinear.c). The law of owned interface e (input
+ * index k): stress[2m] from jump[2m], physical, (shear, normal) per portion. */
+typedef PetscErrorCode (*BwPortionLawFn)(void *ctx, PetscInt e, PetscInt k, const PetscReal jump[], PetscReal stress[]);
+/* F = [-r~ + G^{1/2} sigma(j(q)); D^T r~ + P q~ - b_q] at x for the right-hand
+ * side b (its stress rows lift the prescribed values): K x - b when the
+ * law is elastic; its derivative is K with the laws' tangents. */
+PetscErrorCode BwMixedResidual(BwMixed mixed, Vec x, Vec b, BwPortionLawFn law, void *ctx, Vec F);
+/* The global row in K of dof `dof` (0 u1, 1 u2, 2 w) of `block`, -1 if the
+ * dof is prescribed; the physical value is scale times the scaled one
+ * (scale valid on the rank that owns the row). */
+PetscErrorCode BwMixedDofRow(BwMixed mixed, PetscInt block, PetscInt dof, PetscInt *row, PetscReal *scale);
 
 /* Sizes and ownership, for output and analyses. */
 typedef struct {

@@ -36,6 +36,10 @@ struct _n_BwMixed {
   Mat       K, D, S;
   BwCSRValues svals; /* S^'s values as PETSc holds them, for the refill */
   PetscInt   maxdeg; /* most interfaces of an owned block */
+  PetscInt   values_state; /* bumped when BwMixedSetTangents changes the operators' values */
+  /* a spring on one dof in the operators (BwMixedSetSpring), -1: none */
+  PetscInt   spring_block, spring_dof;
+  PetscReal  spring;
   IS        isr, isq;
   Vec       pmask;        /* q layout: 1 at prescribed dofs */
   /* tangents: 4 per portion of the owned interfaces (physical), NULL for

@@ -409,6 +409,25 @@ PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscBool tangent, Mat *D)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* y_q += spring x_q at the spring's dof (on the rank that owns it). */
+static PetscErrorCode BwMixedAddSpring(BwMixed mx, Vec xq, Vec yq)
+{
+  PetscInt row = mx->qrow[mx->spring_block];
+
+  PetscFunctionBeginUser;
+  if (row >= 0 && row >= mx->qstart && row < mx->qstart + mx->nq_local) {
+    const PetscScalar *x;
+    PetscScalar       *y;
+    PetscInt           i = row - mx->qstart + mx->spring_dof;
+    PetscCall(VecGetArrayRead(xq, &x));
+    PetscCall(VecGetArray(yq, &y));
+    y[i] += mx->spring * x[i];
+    PetscCall(VecRestoreArray(yq, &y));
+    PetscCall(VecRestoreArrayRead(xq, &x));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* K = [-I, T D^; D^T, P] applied through views of the two fields. */
 static PetscErrorCode BwKShellMult(Mat K, Vec x, Vec y)
 {
@@ -425,6 +444,7 @@ static PetscErrorCode BwKShellMult(Mat K, Vec x, Vec y)
   PetscCall(BwMixedApplyTangent(mx, yr));
   PetscCall(VecAXPY(yr, -1.0, xr));
   PetscCall(VecPointwiseMult(yq, mx->pmask, xq));
+  if (mx->spring_block >= 0) PetscCall(BwMixedAddSpring(mx, xq, yq));
   PetscCall(MatMultTransposeAdd(mx->D, xr, yq, yq));
   PetscCall(VecRestoreSubVector(y, mx->isq, &yq));
   PetscCall(VecRestoreSubVector(y, mx->isr, &yr));
@@ -457,6 +477,13 @@ PetscErrorCode BwMixedCreateAIJ(BwMixed mx, Mat *aij)
   PetscCall(MatSetOption(A11, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
   PetscCall(VecDuplicate(mx->pmask, &diag));
   PetscCall(VecCopy(mx->pmask, diag));
+  if (mx->spring_block >= 0) {
+    Vec one;
+    PetscCall(VecDuplicate(diag, &one));
+    PetscCall(VecSet(one, 1.0));
+    PetscCall(BwMixedAddSpring(mx, one, diag));
+    PetscCall(VecDestroy(&one));
+  }
   PetscCall(MatAssemblyBegin(A11, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(A11, MAT_FINAL_ASSEMBLY));
   PetscCall(MatDiagonalSet(A11, diag, INSERT_VALUES));
@@ -510,15 +537,11 @@ PetscErrorCode BwMixedSetUp(BwMixed mx, BwStorage storage)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
+/* New values of the operators (same pattern): S^ refilled, K told. */
+static PetscErrorCode BwMixedValuesChanged(BwMixed mx)
 {
-  PetscInt n = 4 * mx->m * mx->nown_interfaces;
-
   PetscFunctionBeginUser;
-  if (tangent) {
-    if (!mx->tangent) PetscCall(PetscMalloc1(n + 1, &mx->tangent));
-    PetscCall(PetscArraycpy(mx->tangent, tangent, n));
-  } else PetscCall(PetscFree(mx->tangent));
+  mx->values_state++;
   PetscCall(BwMixedRefillS(mx));
   if (mx->storage == BW_STORAGE_AIJ) {
     /* same pattern (a tangent mixes the two rows of a portion, whose
@@ -528,5 +551,30 @@ PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
     PetscCall(MatCopy(K, mx->K, SAME_NONZERO_PATTERN));
     PetscCall(MatDestroy(&K));
   } else PetscCall(BwMatValuesChanged(mx->K));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedSetSpring(BwMixed mx, PetscInt block, PetscInt dof, PetscReal stiffness)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(block < 0 || (mx->qrow[block] >= 0 && !mx->model->prescribed[3 * block + dof]), mx->comm, PETSC_ERR_ARG_WRONG, "a spring needs a free dof");
+  if (block == mx->spring_block && dof == mx->spring_dof && stiffness == mx->spring) PetscFunctionReturn(PETSC_SUCCESS);
+  mx->spring_block = block < 0 ? -1 : block;
+  mx->spring_dof   = block < 0 ? 0 : dof;
+  mx->spring       = block < 0 ? 0 : stiffness;
+  PetscCall(BwMixedValuesChanged(mx));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
+{
+  PetscInt n = 4 * mx->m * mx->nown_interfaces;
+
+  PetscFunctionBeginUser;
+  if (tangent) {
+    if (!mx->tangent) PetscCall(PetscMalloc1(n + 1, &mx->tangent));
+    PetscCall(PetscArraycpy(mx->tangent, tangent, n));
+  } else PetscCall(PetscFree(mx->tangent));
+  PetscCall(BwMixedValuesChanged(mx));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

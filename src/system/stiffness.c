@@ -157,6 +157,7 @@ static PetscErrorCode BwMixedBlockRows(BwMixed mx, PetscInt b, PetscBool values,
     PetscCall(PetscFindInt(mx->qrow[b], n, w->nbr, &self));
     for (PetscInt r = 0; r < 3; r++)
       if (mx->model->prescribed[3 * b + r]) w->acc[3 * n * r + 3 * self + r] = 1;
+    if (b == mx->spring_block) w->acc[3 * n * mx->spring_dof + 3 * self + mx->spring_dof] += mx->spring;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -1,0 +1,375 @@
+/* BwNewton: see newton.h. */
+#include "analysis/newton.h"
+#include <stdlib.h>
+#include "util/compat.h"
+
+struct _n_BwNewton {
+  BwProblem   *p;
+  BwMixed      mx;
+  BwJointField field;
+  PetscInt     nb;
+  /* x: the committed state; xn: the iterate; xt: a line-search trial */
+  Vec          x, xn, xt, F, Ft, dx, dx2, b, b0, bP;
+  PetscReal    lambda_committed;
+  PetscReal    rtol;
+  PetscInt     maxit;
+  /* displacement control */
+  PetscInt     mon_row, mon_block, mon_dof;
+  PetscReal    mon_scale;
+  /* the last solve */
+  PetscInt     its, total_its, total_solves;
+  PetscReal    residual;
+  char         reason[512];
+  PetscReal   *load0, *pattern;
+  BwLog        log; /* the linear solves' own phases, quietly (a pushover makes thousands) */
+};
+
+PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton)
+{
+  BwNewton   nw;
+  PetscReal *zero;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&nw));
+  nw->p       = p;
+  nw->mx      = p->mixed;
+  nw->nb      = p->geom->nblocks;
+  nw->rtol    = 1e-8;
+  nw->maxit   = 40;
+  nw->mon_row = -1;
+  PetscCall(BwJointFieldCreate(p->mixed, &nw->field));
+  PetscCall(BwLogCreate(p->comm, &nw->log));
+  PetscCall(BwMixedCreateVecs(p->mixed, &nw->x, &nw->b));
+  PetscCall(VecDuplicate(nw->x, &nw->xn));
+  PetscCall(VecDuplicate(nw->x, &nw->xt));
+  PetscCall(VecDuplicate(nw->x, &nw->F));
+  PetscCall(VecDuplicate(nw->x, &nw->Ft));
+  PetscCall(VecDuplicate(nw->x, &nw->dx));
+  PetscCall(VecDuplicate(nw->x, &nw->b0));
+  PetscCall(PetscMalloc2(3 * nw->nb + 1, &nw->load0, 3 * nw->nb + 1, &nw->pattern));
+  PetscCall(PetscArraycpy(nw->load0, load0, 3 * nw->nb));
+  if (pattern) PetscCall(PetscArraycpy(nw->pattern, pattern, 3 * nw->nb));
+  else PetscCall(PetscArrayzero(nw->pattern, 3 * nw->nb));
+  PetscCall(BwMixedFillRHS(p->mixed, load0, nw->b0));
+  /* bP: the pattern's loads alone (FillRHS lifts the prescribed values too) */
+  PetscCall(VecDuplicate(nw->x, &nw->bP));
+  PetscCall(PetscCalloc1(3 * nw->nb + 1, &zero));
+  PetscCall(BwMixedFillRHS(p->mixed, nw->pattern, nw->bP));
+  PetscCall(BwMixedFillRHS(p->mixed, zero, nw->dx));
+  PetscCall(VecAXPY(nw->bP, -1.0, nw->dx));
+  PetscCall(PetscFree(zero));
+  *newton = nw;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonDestroy(BwNewton *newton)
+{
+  BwNewton nw = *newton;
+
+  PetscFunctionBeginUser;
+  if (!nw) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(BwJointFieldDestroy(&nw->field));
+  PetscCall(VecDestroy(&nw->x));
+  PetscCall(VecDestroy(&nw->xn));
+  PetscCall(VecDestroy(&nw->xt));
+  PetscCall(VecDestroy(&nw->F));
+  PetscCall(VecDestroy(&nw->Ft));
+  PetscCall(VecDestroy(&nw->dx));
+  PetscCall(VecDestroy(&nw->dx2));
+  PetscCall(VecDestroy(&nw->b));
+  PetscCall(VecDestroy(&nw->b0));
+  PetscCall(VecDestroy(&nw->bP));
+  PetscCall(PetscFree2(nw->load0, nw->pattern));
+  PetscCall(PetscFree(*newton));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonSetTolerances(BwNewton nw, PetscReal rtol, PetscInt maxit)
+{
+  PetscFunctionBeginUser;
+  nw->rtol  = rtol;
+  nw->maxit = maxit;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonSetMonitor(BwNewton nw, PetscInt block, PetscInt dof, const char what[])
+{
+  PetscInt  lo, hi, row;
+  PetscReal scale = 0, s;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwMixedDofRow(nw->mx, block, dof, &row, &scale));
+  PetscCheck(row >= 0, nw->p->comm, PETSC_ERR_USER_INPUT, "%s: dof %s of block %" PetscInt_FMT " is prescribed (supports); displacement control needs a free dof", what, dof == 0 ? "u1" : dof == 1 ? "u2" : "w", block);
+  PetscCall(VecGetOwnershipRange(nw->x, &lo, &hi));
+  if (!(row >= lo && row < hi)) scale = 0;
+  PetscCallMPI(MPI_Allreduce(&scale, &s, 1, MPIU_REAL, MPI_MAX, nw->p->comm));
+  nw->mon_row   = row;
+  nw->mon_block = block;
+  nw->mon_dof   = dof;
+  nw->mon_scale = s;
+  if (!nw->dx2) PetscCall(VecDuplicate(nw->x, &nw->dx2));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* v[row] += a (on the rank that owns the row). */
+static PetscErrorCode BwVecAddEntry(Vec v, PetscInt row, PetscReal a)
+{
+  PetscInt     lo, hi;
+  PetscScalar *x;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(v, &lo, &hi));
+  if (row >= lo && row < hi) {
+    PetscCall(VecGetArray(v, &x));
+    x[row - lo] += a;
+    PetscCall(VecRestoreArray(v, &x));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Entry `row` of a K-layout vector, on every rank. */
+static PetscErrorCode BwVecEntry(Vec v, PetscInt row, PetscReal *value)
+{
+  PetscInt           lo, hi;
+  const PetscScalar *a;
+  PetscReal          loc = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(v, &lo, &hi));
+  if (row >= lo && row < hi) {
+    PetscCall(VecGetArrayRead(v, &a));
+    loc = PetscRealPart(a[row - lo]);
+    PetscCall(VecRestoreArrayRead(v, &a));
+  }
+  PetscCallMPI(MPI_Allreduce(&loc, value, 1, MPIU_REAL, MPIU_SUM, PetscObjectComm((PetscObject)v)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonMonitorValue(BwNewton nw, PetscReal *value)
+{
+  PetscFunctionBeginUser;
+  *value = 0;
+  if (nw->mon_row < 0) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(BwVecEntry(nw->x, nw->mon_row, value));
+  *value *= nw->mon_scale;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* F at x for (mu, lambda), the relative norm ||F|| / max(||b||, ||r~||),
+ * and whether a law failed (collective). */
+static PetscErrorCode BwNewtonResidual(BwNewton nw, Vec x, PetscReal mu, PetscReal lambda, Vec F, PetscReal *norm, PetscBool *failed)
+{
+  PetscReal fn, bn, rn;
+  IS        isr;
+  Vec       xr;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecAXPBYPCZ(nw->b, mu, lambda, 0.0, nw->b0, nw->bP));
+  PetscCall(BwJointFieldBegin(nw->field));
+  PetscCall(BwMixedResidual(nw->mx, x, nw->b, BwJointFieldLaw, nw->field, F));
+  PetscCall(BwJointFieldFailed(nw->field, failed, NULL, 0));
+  PetscCall(VecNorm(F, NORM_2, &fn));
+  PetscCall(VecNorm(nw->b, NORM_2, &bn));
+  PetscCall(BwMixedGetFields(nw->mx, &isr, NULL));
+  PetscCall(VecGetSubVector(x, isr, &xr));
+  PetscCall(VecNorm(xr, NORM_2, &rn));
+  PetscCall(VecRestoreSubVector(x, isr, &xr));
+  *norm = fn / PetscMax(PetscMax(bn, rn), PETSC_SMALL * PETSC_SMALL);
+  if (bn == 0 && rn == 0) *norm = fn; /* the unloaded, undeformed state */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* K dx = rhs with the current tangents; false (and the reason) if no
+ * usable answer. The solver's own checks stand; its error is caught. */
+static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscBool *ok)
+{
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = BwSolverSolve(nw->p->solver, rhs, dx, &nw->log);
+  PetscCall(PetscPopErrorHandler());
+  nw->total_solves++;
+  *ok = ierr ? PETSC_FALSE : PETSC_TRUE;
+  if (ierr) PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "the Newton matrix could not be solved (%s)", BwErrorText(ierr)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, PetscBool displacement, PetscReal target, PetscBool *converged)
+{
+  PetscReal lam = *lambda, norm, after1 = PETSC_MAX_REAL, target_scaled = 0, gscale = 1;
+  PetscBool failed = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  *converged    = PETSC_FALSE;
+  nw->reason[0] = 0;
+  nw->its       = 0;
+  PetscCheck(!displacement || nw->mon_row >= 0, nw->p->comm, PETSC_ERR_ORDER, "displacement control without a monitor");
+  PetscCall(VecCopy(nw->x, nw->xn));
+  if (displacement) {
+    PetscReal now;
+    PetscCall(BwVecEntry(nw->xn, nw->mon_row, &now));
+    target_scaled = target / nw->mon_scale;
+    gscale        = PetscMax(PetscAbsReal(target_scaled - now), PetscAbsReal(target_scaled));
+  }
+  PetscCall(BwNewtonResidual(nw, nw->xn, mu, lam, nw->F, &norm, &failed));
+  for (;;) {
+    PetscReal gap = 0, alpha = 1, tnorm = 0, dlam = 0, merit;
+    PetscBool ok, accepted = PETSC_FALSE, tfailed = PETSC_FALSE;
+
+    if (failed) {
+      PetscCall(BwJointFieldFailed(nw->field, &failed, nw->reason, sizeof(nw->reason)));
+      break;
+    }
+    if (!PetscIsNormalReal(norm) && norm != 0) {
+      PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "the residual is not finite after %" PetscInt_FMT " iterations", nw->its));
+      break;
+    }
+    if (displacement) {
+      PetscReal now;
+      PetscCall(BwVecEntry(nw->xn, nw->mon_row, &now));
+      gap = target_scaled - now;
+    }
+    nw->residual = norm;
+    merit        = PetscSqrtReal(norm * norm + (gap / gscale) * (gap / gscale));
+    if (getenv("BW_NEWTON_DEBUG")) PetscCall(PetscPrintf(nw->p->comm, "    newton %" PetscInt_FMT ": |F| %.3e gap %.3e (scale %.3e) lambda %.6e\n", nw->its, (double)norm, (double)gap, (double)gscale, (double)lam));
+    if (norm <= nw->rtol && PetscAbsReal(gap) <= nw->rtol * gscale) {
+      *converged = PETSC_TRUE;
+      break;
+    }
+    if (nw->its >= nw->maxit) {
+      PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "Newton did not converge in %" PetscInt_FMT " iterations (relative residual %.3e, tolerance %.1e)", nw->its, (double)norm, (double)nw->rtol));
+      break;
+    }
+    if (nw->its == 1) after1 = merit;
+    if (nw->its >= 3 && merit > 1e3 * PetscMax(after1, nw->rtol)) {
+      PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "Newton diverged (relative residual %.3e after %" PetscInt_FMT " iterations, %.3e after the first)", (double)merit, nw->its, (double)after1));
+      break;
+    }
+    /* the Newton matrix: the tangents of the laws at xn */
+    {
+      const PetscReal *t;
+      PetscCall(BwJointFieldGetTangents(nw->field, &t));
+      PetscCall(BwMixedSetTangents(nw->mx, t));
+    }
+    /* displacement control: K' = K + e e^T (a spring of the dof's own
+     * stiffness on the monitor, so K' stays regular on a plateau) and
+     * K' dx1 = -F + e gap, K' dx2 = bP give K dx - bP dlambda = -F with
+     * e.dx = gap for dlambda = (gap - e.dx1) / e.dx2, exactly */
+    PetscCall(BwMixedSetSpring(nw->mx, displacement ? nw->mon_block : -1, nw->mon_dof, 1.0));
+    PetscCall(VecScale(nw->F, -1.0));
+    if (displacement) PetscCall(BwVecAddEntry(nw->F, nw->mon_row, gap));
+    PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, &ok));
+    if (displacement) PetscCall(BwVecAddEntry(nw->F, nw->mon_row, -gap));
+    PetscCall(VecScale(nw->F, -1.0));
+    if (!ok) break;
+    if (displacement) {
+      PetscReal d1, d2;
+      PetscCall(BwNewtonLinearSolve(nw, nw->bP, nw->dx2, &ok));
+      if (!ok) break;
+      PetscCall(BwVecEntry(nw->dx, nw->mon_row, &d1));
+      PetscCall(BwVecEntry(nw->dx2, nw->mon_row, &d2));
+      if (!(PetscAbsReal(d2) > 0)) {
+        PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "the load pattern does not move the monitor dof (a mechanism of the pattern's own, or a monitor the pattern cannot reach)"));
+        break;
+      }
+      dlam = (gap - d1) / d2;
+      PetscCall(VecAXPY(nw->dx, dlam, nw->dx2));
+    }
+    nw->its++;
+    nw->total_its++;
+    /* backtracking on ||F||: halve the step until the residual falls */
+    for (int ls = 0; ls < 6 && !accepted; ls++, alpha *= 0.5) {
+      PetscCall(VecWAXPY(nw->xt, alpha, nw->dx, nw->xn));
+      PetscCall(BwNewtonResidual(nw, nw->xt, mu, lam + alpha * dlam, nw->Ft, &tnorm, &tfailed));
+      /* the merit: the residual and the monitor's distance to its target
+       * (linear in alpha: the correction meets it at alpha = 1) */
+      PetscReal tgap = (1 - alpha) * gap / gscale;
+      if (!tfailed && PetscIsNormalReal(tnorm + 1) && (PetscSqrtReal(tnorm * tnorm + tgap * tgap) <= (1 - 1e-4 * alpha) * merit || (tnorm <= nw->rtol && PetscAbsReal(tgap) <= nw->rtol))) accepted = PETSC_TRUE;
+      if (accepted) break;
+    }
+    if (!accepted) {
+      /* no decrease along the Newton direction (the residual is not
+       * smooth where portions change mode): take the full step */
+      alpha = 1;
+      PetscCall(VecWAXPY(nw->xt, 1.0, nw->dx, nw->xn));
+      PetscCall(BwNewtonResidual(nw, nw->xt, mu, lam + dlam, nw->Ft, &tnorm, &tfailed));
+    }
+    lam += alpha * dlam;
+    PetscCall(VecSwap(nw->xn, nw->xt));
+    PetscCall(VecSwap(nw->F, nw->Ft));
+    norm   = tnorm;
+    failed = tfailed;
+  }
+  if (*converged) *lambda = lam;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonCommit(BwNewton nw)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(nw->xn, nw->x));
+  PetscCall(BwJointFieldCommit(nw->field));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonGetResult(BwNewton nw, PetscInt *its, PetscReal *residual, const char **reason)
+{
+  PetscFunctionBeginUser;
+  if (its) *its = nw->its;
+  if (residual) *residual = nw->residual;
+  if (reason) *reason = nw->reason;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonGetSolution(BwNewton nw, Vec *x, BwJointField *field)
+{
+  PetscFunctionBeginUser;
+  if (x) *x = nw->x;
+  if (field) *field = nw->field;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonGetLoads(BwNewton nw, PetscReal mu, PetscReal lambda, PetscReal load[])
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < 3 * nw->nb; i++) load[i] = mu * nw->load0[i] + lambda * nw->pattern[i];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonGetCounts(BwNewton nw, PetscInt *iterations, PetscInt *solves, PetscLogDouble *setup)
+{
+  PetscFunctionBeginUser;
+  if (setup) *setup = nw->log.seconds[BW_PHASE_SETUP];
+  if (iterations) *iterations = nw->total_its;
+  if (solves) *solves = nw->total_solves;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonRamp(BwNewton nw, PetscReal min_step, PetscInt *substeps, PetscBool *converged)
+{
+  PetscReal mu = 0, h = 1;
+  PetscInt  good = 0;
+
+  PetscFunctionBeginUser;
+  *substeps  = 0;
+  *converged = PETSC_FALSE;
+  while (mu < 1) {
+    PetscReal next = PetscMin(1.0, mu + h), lambda = 0;
+    PetscBool ok;
+    if (1 - next < 1e-12) next = 1;
+    PetscCall(BwNewtonSolve(nw, next, &lambda, PETSC_FALSE, 0, &ok));
+    if (ok) {
+      PetscCall(BwNewtonCommit(nw));
+      mu = next;
+      (*substeps)++;
+      if (++good >= 2) h = PetscMin(1.0, 2 * h);
+    } else {
+      good = 0;
+      h /= 2;
+      if (h < min_step) PetscFunctionReturn(PETSC_SUCCESS);
+    }
+  }
+  *converged = PETSC_TRUE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,404 @@
+/* The pushover analysis (analysis.type: pushover): the constant loads
+ * first (step 0, lambda = 0), then a load pattern times a growing
+ * multiplier lambda, to a target, in equal increments cut in halves where
+ * Newton fails (interface.md, "Pushover"):
+ *
+ *   analysis.pushover.loads        the pattern P: set -> [F1, F2, M3]
+ *   analysis.pushover.body_force   [a1, a2]: adds (a1, a2) times every block's
+ *                                  weight to P (needs gravity.density > 0)
+ *   analysis.pushover.control      load: lambda prescribed per step;
+ *                                  displacement: the monitor dof prescribed,
+ *                                  lambda an unknown (newton.h)
+ *   analysis.pushover.monitor      {set, dof}: that dof of the set's first block
+ *   analysis.pushover.target       final lambda (load) or monitor value
+ *   analysis.pushover.steps        equal increments to the target
+ *   analysis.pushover.min_step     smallest cut-back, a fraction of one increment
+ *   analysis.pushover.tolerance    Newton: relative true residual
+ *   analysis.pushover.max_iterations
+ *   output.steps                   last | all | every_N
+ *
+ * After a failed step the increment is halved; after two successes in a
+ * row it doubles again, up to the nominal one. The run ends when the target
+ * is reached, or when no state beyond the last converged one is found even
+ * with the smallest increment: under load control the collapse, under
+ * displacement control the end of what it can follow (stop_reason says
+ * which). Every converged state is a step of the history (cut-backs add
+ * steps); only converged states are written. */
+#include <string.h>
+#include "analysis/analysis.h"
+#include "analysis/newton.h"
+#include "util/compat.h"
+
+typedef enum { BW_CONTROL_LOAD = 0, BW_CONTROL_DISPLACEMENT = 1 } BwControl;
+static const char *const BwControls[] = {"load", "displacement"};
+
+typedef struct {
+  BwControl  control;
+  PetscReal *pattern; /* 3 per block */
+  PetscInt   monitor_block, monitor_dof;
+  char       monitor_set[256];
+  PetscReal  target, min_step, tolerance;
+  PetscInt   steps, max_iterations;
+  PetscInt   every; /* output.steps: 0 last, 1 all, N every N-th */
+} BwPushover;
+
+static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
+{
+  BwPushover *po = (BwPushover *)a->data;
+  BwGeometry  g  = p->geom;
+  PetscReal  *bf = NULL;
+  PetscInt    nbf = 0, control = 0, dof = -1, set = -1;
+  PetscBool   given, has_target, has_monitor;
+  char        steps[64] = "last", dofname[16] = "";
+  static const char *const dofs[] = {"u1", "u2", "w"};
+
+  PetscFunctionBeginUser;
+  PetscCall(BwAnalysisSolverForJoints(p));
+  PetscCall(BwSolverSetExpectedSolves(p->solver, 100));
+  PetscCall(BwSceneHelpSection(p->scene, "Pushover (scene key analysis.pushover.*)"));
+  PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover", "loads, body_force, control, monitor, target, steps, min_step, tolerance, max_iterations"));
+  /* the pattern */
+  PetscCall(PetscCalloc1(3 * g->nblocks + 1, &po->pattern));
+  PetscCall(BwModelReadLoads(p->model, p->scene, "analysis_pushover_", PETSC_FALSE, po->pattern));
+  PetscCall(BwSceneRealArray(p->scene, "-analysis_pushover_body_force", "a1, a2: adds lambda (a1, a2) times every block's weight to the pattern", &bf, &nbf, &given));
+  if (given) {
+    if (nbf != 2) PetscCall(BwSceneError(p->scene, "-analysis_pushover_body_force", "must have 2 values a1, a2, got %" PetscInt_FMT, nbf));
+    if (!(p->model->gravity_density > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_body_force", "needs the blocks' weight: gravity.density must be > 0"));
+    for (PetscInt b = 0; b < g->nblocks; b++) {
+      PetscReal w = p->model->gravity_density * 9.81 * g->area[b] * g->depth;
+      po->pattern[3 * b] += bf[0] * w;
+      po->pattern[3 * b + 1] += bf[1] * w;
+    }
+  }
+  PetscCall(PetscFree(bf));
+  {
+    PetscReal norm = 0;
+    for (PetscInt i = 0; i < 3 * g->nblocks; i++) norm = PetscMax(norm, PetscAbsReal(po->pattern[i]));
+    if (!(norm > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_loads", "the load pattern is zero: give analysis.pushover.loads or analysis.pushover.body_force"));
+  }
+  /* control and monitor */
+  PetscCall(BwSceneEnum(p->scene, "-analysis_pushover_control", "load (lambda prescribed per step) or displacement (the monitor dof prescribed, lambda unknown)", 2, BwControls, &control, NULL));
+  po->control = (BwControl)control;
+  PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover_monitor", "set, dof"));
+  PetscCall(BwSceneString(p->scene, "-analysis_pushover_monitor_set", "Block set whose first block carries the monitor dof", po->monitor_set, sizeof(po->monitor_set), &has_monitor));
+  PetscCall(BwSceneString(p->scene, "-analysis_pushover_monitor_dof", "The monitor dof: u1, u2 or w", dofname, sizeof(dofname), &given));
+  if (has_monitor) {
+    char names[1024];
+    PetscCall(BwGeometryFindSet(g, po->monitor_set, &set));
+    PetscCall(BwGeometryGetSetNames(g, names, sizeof(names)));
+    if (set < 0) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_set", "'%s' does not name a block set (sets: %s)", po->monitor_set, names));
+    if (g->setoffsets[set + 1] == g->setoffsets[set]) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_set", "set '%s' is empty", po->monitor_set));
+    po->monitor_block = g->setblocks[g->setoffsets[set]];
+    if (!given) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "needs dof: u1, u2 or w"));
+  } else if (given) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "needs set: the block set whose first block is followed"));
+  if (given) {
+    for (PetscInt c = 0; c < 3; c++) {
+      PetscBool eq;
+      PetscCall(PetscStrcasecmp(dofname, dofs[c], &eq));
+      if (eq) dof = c;
+    }
+    if (dof < 0) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_dof", "must be u1, u2 or w, got '%s'", dofname));
+    po->monitor_dof = dof;
+  }
+  if (!has_monitor) {
+    /* load control may do without: the largest component of the pattern */
+    PetscReal best = -1;
+    if (po->control == BW_CONTROL_DISPLACEMENT) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "is required with control: displacement (monitor: {set: SET, dof: u1|u2|w})"));
+    for (PetscInt i = 0; i < 3 * g->nblocks; i++)
+      if (PetscAbsReal(po->pattern[i]) > best && !p->model->prescribed[i]) {
+        best              = PetscAbsReal(po->pattern[i]);
+        po->monitor_block = i / 3;
+        po->monitor_dof   = i % 3;
+      }
+    PetscCall(PetscSNPrintf(po->monitor_set, sizeof(po->monitor_set), "block %" PetscInt_FMT, po->monitor_block));
+  }
+  if (p->model->prescribed[3 * po->monitor_block + po->monitor_dof])
+    PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "dof %s of block %" PetscInt_FMT " (set %s) is prescribed by the supports; the monitor must be free", dofs[po->monitor_dof], po->monitor_block, po->monitor_set));
+  /* the increments */
+  po->target = 0;
+  PetscCall(BwSceneReal(p->scene, "-analysis_pushover_target", "Final lambda (control: load) or final monitor value [m or rad] (control: displacement)", &po->target, &has_target));
+  if (!has_target) PetscCall(BwSceneError(p->scene, "-analysis_pushover_target", "is required: the final lambda (load control) or monitor value (displacement control)"));
+  if (po->control == BW_CONTROL_LOAD && !(po->target > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_target", "must be > 0 under load control, got %g", (double)po->target));
+  po->steps = 100;
+  PetscCall(BwSceneInt(p->scene, "-analysis_pushover_steps", "Equal increments to the target", &po->steps, NULL));
+  if (po->steps < 1) PetscCall(BwSceneError(p->scene, "-analysis_pushover_steps", "must be >= 1, got %" PetscInt_FMT, po->steps));
+  po->min_step = 1e-3;
+  PetscCall(BwSceneReal(p->scene, "-analysis_pushover_min_step", "Smallest cut-back, a fraction of one increment", &po->min_step, NULL));
+  if (!(po->min_step > 0 && po->min_step <= 1)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_min_step", "must be in (0, 1], got %g", (double)po->min_step));
+  po->tolerance = 1e-8;
+  PetscCall(BwSceneReal(p->scene, "-analysis_pushover_tolerance", "Newton: relative true residual of the full mixed system", &po->tolerance, NULL));
+  if (!(po->tolerance > 0 && po->tolerance < 1)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_tolerance", "must be in (0, 1), got %g", (double)po->tolerance));
+  po->max_iterations = 40;
+  PetscCall(BwSceneInt(p->scene, "-analysis_pushover_max_iterations", "Newton iterations per step", &po->max_iterations, NULL));
+  if (po->max_iterations < 1) PetscCall(BwSceneError(p->scene, "-analysis_pushover_max_iterations", "must be >= 1, got %" PetscInt_FMT, po->max_iterations));
+  /* output.steps */
+  PetscCall(BwSceneString(p->scene, "-output_steps", "Steps written under /steps: last, all or every_N", steps, sizeof(steps), NULL));
+  if (!strcmp(steps, "last")) po->every = 0;
+  else if (!strcmp(steps, "all")) po->every = 1;
+  else {
+    char *end = NULL;
+    long  n   = strncmp(steps, "every_", 6) ? 0 : strtol(steps + 6, &end, 10);
+    if (!(n >= 1 && end && !*end && n < PETSC_MAX_INT)) PetscCall(BwSceneError(p->scene, "-output_steps", "must be last, all or every_N with N >= 1, got '%s'", steps));
+    po->every = (PetscInt)n;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The history, on every rank (replicated: a few numbers per step). */
+typedef struct {
+  PetscInt   n, max;
+  PetscReal *lambda, *monitor, *residual;
+  PetscInt  *its;
+} BwHistory;
+
+static PetscErrorCode BwHistoryAdd(BwHistory *h, PetscReal lambda, PetscReal monitor, PetscInt its, PetscReal residual)
+{
+  PetscFunctionBeginUser;
+  if (h->n == h->max) {
+    h->max = PetscMax(64, 2 * h->max);
+    PetscCall(PetscRealloc(h->max * sizeof(PetscReal), &h->lambda));
+    PetscCall(PetscRealloc(h->max * sizeof(PetscReal), &h->monitor));
+    PetscCall(PetscRealloc(h->max * sizeof(PetscReal), &h->residual));
+    PetscCall(PetscRealloc(h->max * sizeof(PetscInt), &h->its));
+  }
+  h->lambda[h->n]   = lambda;
+  h->monitor[h->n]  = monitor;
+  h->its[h->n]      = its;
+  h->residual[h->n] = residual;
+  h->n++;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwHistoryFree(BwHistory *h)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(h->lambda));
+  PetscCall(PetscFree(h->monitor));
+  PetscCall(PetscFree(h->residual));
+  PetscCall(PetscFree(h->its));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The committed state's results (physical) and what the output needs. */
+static PetscErrorCode BwPushoverResults(BwProblem *p, BwNewton nw, PetscReal lambda, PetscReal load[], BwResults *res, BwOutputData *data)
+{
+  Vec          x;
+  BwJointField field;
+  PetscReal   *plastic;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwNewtonGetSolution(nw, &x, &field));
+  PetscCall(BwNewtonGetLoads(nw, 1.0, lambda, load));
+  PetscCall(BwMixedRecover(p->mixed, x, load, p->output->stresses, res));
+  PetscCall(BwJointFieldGetState(field, &data->state, &plastic));
+  data->plastic = plastic;
+  data->results = res;
+  data->load    = load;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwPushoverWriteStep(BwProblem *p, BwNewton nw, BwOutputFile of, PetscInt step, PetscReal lambda, PetscReal load[])
+{
+  BwResults    res  = {NULL, NULL, NULL, NULL, NULL};
+  BwOutputData data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
+
+  PetscFunctionBeginUser;
+  PetscCall(BwPushoverResults(p, nw, lambda, load, &res, &data));
+  PetscCall(BwOutputWriteStep(of, step, &data));
+  PetscCall(BwResultsFree(&res));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, BwOutputFile of, BwHistory *h, PetscReal *lambda_out, char stop[], size_t len)
+{
+  BwPushover *po = (BwPushover *)a->data;
+  PetscReal   t = 0, inc = 1.0 / po->steps, hc = inc, lambda = 0, mon0, load_mon;
+  PetscInt    good = 0, substeps;
+  PetscBool   ok;
+  PetscReal  *load;
+  const char *reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(3 * p->geom->nblocks + 1, &load));
+  /* step 0: the constant loads */
+  PetscCall(BwNewtonRamp(nw, po->min_step, &substeps, &ok));
+  if (!ok) {
+    PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
+    PetscCall(PetscFree(load));
+    SETERRQ(p->comm, PETSC_ERR_NOT_CONVERGED, "the constant loads (loads, gravity) cannot be carried by the joints: no equilibrium was found for them even in steps of %g of their value (%s)", (double)po->min_step, reason);
+  }
+  {
+    PetscInt  its;
+    PetscReal res;
+    PetscCall(BwNewtonGetResult(nw, &its, &res, NULL));
+    PetscCall(BwNewtonMonitorValue(nw, &mon0));
+    PetscCall(BwHistoryAdd(h, 0, mon0, its, res));
+  }
+  if (po->every >= 1) PetscCall(BwPushoverWriteStep(p, nw, of, 0, 0, load));
+  (void)load_mon;
+
+  while (t < 1 - 1e-12) {
+    PetscReal tn = PetscMin(1.0, t + hc), lam = lambda, goal;
+    if (1 - tn < 1e-9 * inc) tn = 1;
+    goal = po->control == BW_CONTROL_LOAD ? tn * po->target : mon0 + tn * (po->target - mon0);
+    if (po->control == BW_CONTROL_LOAD) lam = goal;
+    PetscCall(BwNewtonSolve(nw, 1.0, &lam, po->control == BW_CONTROL_DISPLACEMENT ? PETSC_TRUE : PETSC_FALSE, goal, &ok));
+    if (ok) {
+      PetscInt  its, step;
+      PetscReal res, mon;
+      PetscCall(BwNewtonCommit(nw));
+      PetscCall(BwNewtonGetResult(nw, &its, &res, NULL));
+      PetscCall(BwNewtonMonitorValue(nw, &mon));
+      t      = tn;
+      lambda = lam;
+      step   = h->n;
+      PetscCall(BwHistoryAdd(h, lambda, mon, its, res));
+      if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": lambda %12.5e, monitor %12.5e, %2" PetscInt_FMT " Newton iterations, residual %.1e\n", step, (double)lambda, (double)mon, its, (double)res));
+      if (po->every >= 1 && step % po->every == 0) PetscCall(BwPushoverWriteStep(p, nw, of, step, lambda, load));
+      if (++good >= 2) hc = PetscMin(inc, 2 * hc);
+    } else {
+      PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
+      good = 0;
+      hc /= 2;
+      if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": cut back to %.3g of an increment (%s)\n", h->n, (double)(hc / inc), reason));
+      if (hc < po->min_step * inc * (1 - 1e-12)) {
+        if (po->control == BW_CONTROL_LOAD)
+          PetscCall(PetscSNPrintf(stop, len, "collapse: no equilibrium beyond lambda = %.6g even with steps of %g of an increment (last failure: %s)", (double)lambda, (double)po->min_step, reason));
+        else
+          PetscCall(PetscSNPrintf(stop, len, "no converged state beyond monitor = %.6g even with steps of %g of an increment: the end of what displacement control can follow (last failure: %s)", (double)h->monitor[h->n - 1], (double)po->min_step, reason));
+        break;
+      }
+    }
+  }
+  if (t >= 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "target reached"));
+  /* the last step is always written when steps are */
+  if (po->every > 1 && (h->n - 1) % po->every) PetscCall(BwPushoverWriteStep(p, nw, of, h->n - 1, lambda, load));
+  if (po->every == 0) PetscCall(BwPushoverWriteStep(p, nw, of, h->n - 1, lambda, load));
+  *lambda_out = lambda;
+  PetscCall(PetscFree(load));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
+{
+  BwPushover    *po = (BwPushover *)a->data;
+  BwNewton       nw;
+  BwOutputFile   of;
+  BwHistory      h = {0, 0, NULL, NULL, NULL, NULL};
+  char          *text, stop[1024] = "";
+  PetscReal      lambda = 0, peak = -PETSC_MAX_REAL, peak_mon = 0, *load;
+  PetscInt       npeak = 0, nsteps_planned, count[4], its, solves;
+  PetscErrorCode ierr;
+  BwResults      res  = {NULL, NULL, NULL, NULL, NULL};
+  BwOutputData   data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
+  BwCheck        check;
+  BwReport       report;
+  Vec            x, b;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwSceneGetText(p->scene, &text));
+  PetscCall(BwProblemPrintHead(p));
+  PetscCall(PetscPrintf(p->comm, "  pushover: %s control, target %g, %" PetscInt_FMT " steps, monitor %s of %s (block %" PetscInt_FMT ")\n", BwControls[po->control], (double)po->target, po->steps, po->monitor_dof == 0 ? "u1" : po->monitor_dof == 1 ? "u2" : "w", po->monitor_set, po->monitor_block));
+  PetscCall(BwNewtonCreate(p, p->model->load, po->pattern, &nw));
+  PetscCall(BwNewtonSetTolerances(nw, po->tolerance, po->max_iterations));
+  PetscCall(BwNewtonSetMonitor(nw, po->monitor_block, po->monitor_dof, "analysis.pushover.monitor"));
+  nsteps_planned = po->every == 0 ? 1 : po->steps / po->every + 2;
+  PetscCall(BwOutputOpen(p->output, p->output->file, p->mixed, text, nsteps_planned, &of));
+  PetscCall(BwLogBegin(p->log, BW_PHASE_SOLVE));
+  ierr = BwPushoverSteps(a, p, nw, of, &h, &lambda, stop, sizeof(stop));
+  PetscCall(BwLogEnd(p->log, BW_PHASE_SOLVE));
+  if (ierr) {
+    PetscCall(BwOutputAbort(&of));
+    PetscCall(BwNewtonDestroy(&nw));
+    PetscCall(BwHistoryFree(&h));
+    PetscCall(PetscFree(text));
+    PetscCall(ierr);
+  }
+  PetscCall(BwProblemCheckOptions(p));
+  for (PetscInt s = 0; s < h.n; s++)
+    if (h.lambda[s] > peak) {
+      peak     = h.lambda[s];
+      peak_mon = h.monitor[s];
+      npeak    = s;
+    }
+
+  /* the final state: results, self-check, the file */
+  PetscCall(BwLogBegin(p->log, BW_PHASE_RECOVER));
+  PetscCall(PetscMalloc1(3 * p->geom->nblocks + 1, &load));
+  PetscCall(BwPushoverResults(p, nw, lambda, load, &res, &data));
+  PetscCall(BwNewtonGetSolution(nw, &x, NULL));
+  PetscCall(VecDuplicate(x, &b));
+  PetscCall(BwMixedFillRHS(p->mixed, load, b));
+  PetscCall(BwMixedCheck(p->mixed, x, b, load, &res, &check));
+  PetscCall(VecDestroy(&b));
+  PetscCall(BwLogEnd(p->log, BW_PHASE_RECOVER));
+  {
+    PetscLogDouble setup;
+    PetscCall(BwNewtonGetCounts(nw, &its, &solves, &setup));
+    /* the factorisations inside the steps, as set-up time */
+    p->log->seconds[BW_PHASE_SETUP] += setup;
+    p->log->seconds[BW_PHASE_SOLVE] -= setup;
+  }
+  PetscCall(BwReportCreate(&report));
+  PetscCall(BwSolverReport(p->solver, report));
+  PetscCall(BwReportString(report, "analysis", "pushover"));
+  PetscCall(BwReportReal(report, "residual", h.residual[h.n - 1]));
+  PetscCall(BwReportReal(report, "residual_compatibility", -1));
+  PetscCall(BwReportReal(report, "equilibrium_error", check.equilibrium_error));
+  PetscCall(BwReportInt(report, "steps", h.n));
+  PetscCall(BwReportReal(report, "peak_load_factor", peak));
+  PetscCall(BwReportReal(report, "peak_monitor", peak_mon));
+  PetscCall(BwReportString(report, "stop_reason", stop));
+  PetscCall(BwReportString(report, "control", BwControls[po->control]));
+  PetscCall(BwReportInt(report, "newton_iterations", its));
+  PetscCall(BwReportInt(report, "linear_solves", solves));
+  data.solver = report;
+  data.scene  = text;
+  PetscCall(BwLogBegin(p->log, BW_PHASE_WRITE));
+  {
+    BwOutputHistory hist = {h.n, h.lambda, h.monitor, h.residual, h.its};
+    PetscCall(BwOutputClose(&of, &data, &hist, p->log));
+  }
+  PetscCall(BwLogEnd(p->log, BW_PHASE_WRITE));
+
+  {
+    BwJointField field;
+    PetscCall(BwNewtonGetSolution(nw, NULL, &field));
+    PetscCall(BwJointFieldCount(field, count));
+  }
+  PetscCall(PetscPrintf(p->comm, "  steps %" PetscInt_FMT " (%" PetscInt_FMT " Newton iterations, %" PetscInt_FMT " linear solves); stop: %s\n", h.n, its, solves, stop));
+  PetscCall(PetscPrintf(p->comm, "  peak load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); last: load factor %.6g, monitor %.6g\n", (double)peak, npeak, (double)peak_mon, (double)h.lambda[h.n - 1], (double)h.monitor[h.n - 1]));
+  PetscCall(PetscPrintf(p->comm, "  joints at the end: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic\n", count[1], count[2], count[3], count[0]));
+  PetscCall(PetscPrintf(p->comm, "  residual of the nonlinear system %.3e; equilibrium error (reactions + loads) %.3e\n", (double)h.residual[h.n - 1], (double)check.equilibrium_error));
+  PetscCall(BwProblemPrintTail(p, p->output->file));
+  PetscCall(BwReportDestroy(&report));
+  PetscCall(BwResultsFree(&res));
+  PetscCall(PetscFree(load));
+  PetscCall(BwNewtonDestroy(&nw));
+  PetscCall(BwHistoryFree(&h));
+  PetscCall(PetscFree(text));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwPushoverDestroy(BwAnalysis a)
+{
+  BwPushover *po = (BwPushover *)a->data;
+
+  PetscFunctionBeginUser;
+  if (po) PetscCall(PetscFree(po->pattern));
+  PetscCall(PetscFree(a->data));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwAnalysisCreate_Pushover(BwAnalysis a)
+{
+  BwPushover *po;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&po));
+  a->data           = po;
+  a->setfromoptions = BwPushoverSetFromOptions;
+  a->run            = BwPushoverRun;
+  a->destroy        = BwPushoverDestroy;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,36 @@
+/* BwJointField: the joint laws at every portion of the interfaces a rank
+ * owns, with their state: what a nonlinear analysis carries from step to
+ * step (the plastic jumps and the softening variables, model.md
+ * "Nonlinear joints"), and what one evaluation leaves (the tangents for
+ * the Newton matrix, the mode of each portion).
+ *
+ * The state of the last converged step is `committed`; an evaluation at a
+ * trial solution (BwJointFieldLaw, the callback of BwMixedResidual) starts
+ * from it and writes the trial state, so a failed step or a rejected line
+ * search costs nothing to undo; BwJointFieldCommit accepts the trial. */
+#pragma once
+#include "system/mixed.h"
+#include "law/law.h"
+
+typedef struct _n_BwJointField *BwJointField;
+
+PetscErrorCode BwJointFieldCreate(BwMixed mixed, BwJointField *field);
+PetscErrorCode BwJointFieldDestroy(BwJointField *field);
+/* BwPortionLawFn: the stress of owned interface e (input index k) from its
+ * jumps; a law that fails is recorded, not raised (BwJointFieldFailed). */
+PetscErrorCode BwJointFieldLaw(void *field, PetscInt e, PetscInt k, const PetscReal jump[], PetscReal stress[]);
+/* Before an evaluation: forget the failures of the last one. */
+PetscErrorCode BwJointFieldBegin(BwJointField field);
+/* After it (collective): whether a law failed on any rank, and a line
+ * naming the first interface where it did. */
+PetscErrorCode BwJointFieldFailed(BwJointField field, PetscBool *failed, char why[], size_t len);
+/* The tangents of the last evaluation, 4 per portion (BwMixedSetTangents). */
+PetscErrorCode BwJointFieldGetTangents(BwJointField field, const PetscReal **tangent);
+/* The trial state becomes the committed one (a converged step). */
+PetscErrorCode BwJointFieldCommit(BwJointField field);
+/* Per owned portion: the committed mode (0 elastic, 1 open, 2 sliding,
+ * 3 both; m per interface) and plastic jump (slip, opening; 2m per
+ * interface), for output; and the counts of open, sliding and both over
+ * all ranks. */
+PetscErrorCode BwJointFieldGetState(BwJointField field, const signed char **mode, PetscReal **plastic);
+PetscErrorCode BwJointFieldCount(BwJointField field, PetscInt count[4]);

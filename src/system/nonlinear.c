@@ -1,0 +1,75 @@
+/* The residual of the mixed system with nonlinear joints (model.md,
+ * "Nonlinear joints"), in the scaling of mixed.h:
+ *
+ *   F_r = -r~ + G^{1/2} sigma(j(q))       sigma: the joint law per portion
+ *   F_q = D^T r~ + P q~ - b_q
+ *
+ * j(q) is the portion's jump with the prescribed values lifted; in the
+ * scaled system (D^ q~ - b_r)_p = (a_t j_t, a_n j_n), a = sqrt(A_p k), and
+ * G^{1/2} sigma = (A_p sigma_t / a_t, A_p sigma_n / a_n). With elastic
+ * joints sigma = C j and F = K x - b exactly; otherwise dF/dx is K with
+ * the laws' tangents (BwMixedSetTangents), the Newton matrix. The law is
+ * a callback, so the system knows no law and the laws no scaling. */
+#include "system/mixed_impl.h"
+#include "util/compat.h"
+
+PetscErrorCode BwMixedResidual(BwMixed mx, Vec x, Vec b, BwPortionLawFn law, void *ctx, Vec F)
+{
+  Vec          xr, xq, br, bq, fr, fq;
+  PetscScalar *f;
+  const PetscScalar *r;
+  PetscReal   *jump, *sigma;
+  PetscInt     m2 = 2 * mx->m;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetSubVector(x, mx->isr, &xr));
+  PetscCall(VecGetSubVector(x, mx->isq, &xq));
+  PetscCall(VecGetSubVector(b, mx->isr, &br));
+  PetscCall(VecGetSubVector(b, mx->isq, &bq));
+  PetscCall(VecGetSubVector(F, mx->isr, &fr));
+  PetscCall(VecGetSubVector(F, mx->isq, &fq));
+  /* scaled jumps, then per interface: the law, and F_r in place */
+  PetscCall(MatMult(mx->D, xq, fr));
+  PetscCall(VecAXPY(fr, -1.0, br));
+  PetscCall(PetscMalloc2(m2, &jump, m2, &sigma));
+  PetscCall(VecGetArray(fr, &f));
+  PetscCall(VecGetArrayRead(xr, &r));
+  for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+    PetscInt     k  = mx->own_interfaces[e];
+    PetscScalar *fk = f + m2 * e;
+    PetscReal    at, an, ap = mx->geom->depth * mx->geom->length[k] / mx->m;
+    BwMixedPortionScales(mx, k, &at, &an);
+    for (PetscInt p = 0; p < mx->m; p++) {
+      jump[2 * p]     = PetscRealPart(fk[2 * p]) / at;
+      jump[2 * p + 1] = PetscRealPart(fk[2 * p + 1]) / an;
+    }
+    PetscCall(law(ctx, e, k, jump, sigma));
+    for (PetscInt p = 0; p < mx->m; p++) {
+      fk[2 * p]     = -r[m2 * e + 2 * p] + ap * sigma[2 * p] / at;
+      fk[2 * p + 1] = -r[m2 * e + 2 * p + 1] + ap * sigma[2 * p + 1] / an;
+    }
+  }
+  PetscCall(VecRestoreArrayRead(xr, &r));
+  PetscCall(VecRestoreArray(fr, &f));
+  PetscCall(PetscFree2(jump, sigma));
+  /* equilibrium rows: D^T r~ + P q~ - b_q */
+  PetscCall(VecPointwiseMult(fq, mx->pmask, xq));
+  PetscCall(VecAXPY(fq, -1.0, bq));
+  PetscCall(MatMultTransposeAdd(mx->D, xr, fq, fq));
+  PetscCall(VecRestoreSubVector(F, mx->isq, &fq));
+  PetscCall(VecRestoreSubVector(F, mx->isr, &fr));
+  PetscCall(VecRestoreSubVector(b, mx->isq, &bq));
+  PetscCall(VecRestoreSubVector(b, mx->isr, &br));
+  PetscCall(VecRestoreSubVector(x, mx->isq, &xq));
+  PetscCall(VecRestoreSubVector(x, mx->isr, &xr));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedDofRow(BwMixed mx, PetscInt block, PetscInt dof, PetscInt *row, PetscReal *scale)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(block >= 0 && block < mx->geom->nblocks && dof >= 0 && dof < 3, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "no dof %" PetscInt_FMT " of block %" PetscInt_FMT, dof, block);
+  *row   = mx->model->prescribed[3 * block + dof] || mx->krow_q[block] < 0 ? -1 : mx->krow_q[block] + dof;
+  *scale = mx->qscale ? mx->qscale[3 * block + dof] : 1;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
