@@ -52,6 +52,7 @@ PetscErrorCode BwAnalysisCreate(BwScene scene, BwAnalysis *analysis)
 PetscErrorCode BwAnalysisSetFromOptions(BwAnalysis a, BwProblem *p)
 {
   PetscFunctionBeginUser;
+  PetscCall(BwSceneBool(p->scene, "-analysis_newton_monitor", "Nonlinear joints: one line per Newton iteration (residual, monitor gap, modes changed)", &p->newton_monitor, NULL));
   if (a->setfromoptions) PetscCall(a->setfromoptions(a, p));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -23,6 +23,7 @@ typedef struct {
   BwLog     *log;
   char       title[256];
   PetscBool  checked; /* the solvers' own options were checked */
+  PetscBool  newton_monitor; /* analysis.newton_monitor: a line per Newton iteration */
 } BwProblem;
 
 typedef struct _n_BwAnalysis *BwAnalysis;

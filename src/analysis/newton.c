@@ -1,6 +1,5 @@
 /* BwNewton: see newton.h. */
 #include "analysis/newton.h"
-#include <stdlib.h>
 #include "util/compat.h"
 
 struct _n_BwNewton {
@@ -22,6 +21,7 @@ struct _n_BwNewton {
   char         reason[512];
   PetscReal   *load0, *pattern;
   BwLog        log; /* the linear solves' own phases, quietly (a pushover makes thousands) */
+  PetscBool    debug; /* analysis.newton_monitor: one line per iteration */
 };
 
 PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton)
@@ -39,6 +39,7 @@ PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const Petsc
   nw->mon_row = -1;
   PetscCall(BwJointFieldCreate(p->mixed, &nw->field));
   PetscCall(BwLogCreate(p->comm, &nw->log));
+  nw->debug = p->newton_monitor;
   PetscCall(BwMixedCreateVecs(p->mixed, &nw->x, &nw->b));
   PetscCall(VecDuplicate(nw->x, &nw->xn));
   PetscCall(VecDuplicate(nw->x, &nw->xt));
@@ -111,7 +112,10 @@ PetscErrorCode BwNewtonSetMonitor(BwNewton nw, PetscInt block, PetscInt dof, con
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* v[row] += a (on the rank that owns the row). */
+/* v[row] += a on the rank that owns the row. Every rank takes and gives
+ * back the array, so that the vector's state (which keeps cached norms
+ * valid or not) moves on all of them: a state bumped on one rank only lets
+ * the others use a stale cached norm and skip a collective call. */
 static PetscErrorCode BwVecAddEntry(Vec v, PetscInt row, PetscReal a)
 {
   PetscInt     lo, hi;
@@ -119,11 +123,9 @@ static PetscErrorCode BwVecAddEntry(Vec v, PetscInt row, PetscReal a)
 
   PetscFunctionBeginUser;
   PetscCall(VecGetOwnershipRange(v, &lo, &hi));
-  if (row >= lo && row < hi) {
-    PetscCall(VecGetArray(v, &x));
-    x[row - lo] += a;
-    PetscCall(VecRestoreArray(v, &x));
-  }
+  PetscCall(VecGetArray(v, &x));
+  if (row >= lo && row < hi) x[row - lo] += a;
+  PetscCall(VecRestoreArray(v, &x));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -195,10 +197,11 @@ static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscBoo
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, PetscBool displacement, PetscReal target, PetscBool *converged)
+static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lambda, PetscBool displacement, PetscReal target, PetscBool *converged)
 {
   PetscReal lam = *lambda, norm, after1 = PETSC_MAX_REAL, target_scaled = 0, gscale = 1;
   PetscBool failed = PETSC_FALSE;
+  PetscInt  changes;
 
   PetscFunctionBeginUser;
   *converged    = PETSC_FALSE;
@@ -206,6 +209,7 @@ PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, Petsc
   nw->its       = 0;
   PetscCheck(!displacement || nw->mon_row >= 0, nw->p->comm, PETSC_ERR_ORDER, "displacement control without a monitor");
   PetscCall(VecCopy(nw->x, nw->xn));
+  PetscCall(BwJointFieldBeginStep(nw->field));
   if (displacement) {
     PetscReal now;
     PetscCall(BwVecEntry(nw->xn, nw->mon_row, &now));
@@ -232,7 +236,8 @@ PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, Petsc
     }
     nw->residual = norm;
     merit        = PetscSqrtReal(norm * norm + (gap / gscale) * (gap / gscale));
-    if (getenv("BW_NEWTON_DEBUG")) PetscCall(PetscPrintf(nw->p->comm, "    newton %" PetscInt_FMT ": |F| %.3e gap %.3e (scale %.3e) lambda %.6e\n", nw->its, (double)norm, (double)gap, (double)gscale, (double)lam));
+    PetscCall(BwJointFieldModeChanges(nw->field, nw->its == 0 ? PETSC_TRUE : PETSC_FALSE, &changes));
+    if (nw->debug) PetscCall(PetscPrintf(nw->p->comm, "    Newton %" PetscInt_FMT ": residual %.3e, monitor gap %.3e, lambda %.9e, %" PetscInt_FMT " portions changed mode\n", nw->its, (double)norm, (double)(gap / gscale), (double)lam, changes));
     if (norm <= nw->rtol && PetscAbsReal(gap) <= nw->rtol * gscale) {
       *converged = PETSC_TRUE;
       break;
@@ -246,10 +251,14 @@ PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, Petsc
       PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "Newton diverged (relative residual %.3e after %" PetscInt_FMT " iterations, %.3e after the first)", (double)merit, nw->its, (double)after1));
       break;
     }
-    /* the Newton matrix: the tangents of the laws at xn */
+    /* The Newton matrix: the tangents of the laws at xn (at the step's
+     * start, those the last state converged with); a portion that keeps
+     * returning to a mode it left enters with its elastic stiffness
+     * (BwJointFieldGetTangents), so that Newton does not cycle at the kink
+     * between its softening and its unloading. */
     {
       const PetscReal *t;
-      PetscCall(BwJointFieldGetTangents(nw->field, &t));
+      PetscCall(BwJointFieldGetTangents(nw->field, nw->its == 0 ? PETSC_TRUE : PETSC_FALSE, &t));
       PetscCall(BwMixedSetTangents(nw->mx, t));
     }
     /* displacement control: K' = K + e e^T (a spring of the dof's own
@@ -278,23 +287,33 @@ PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, Petsc
     }
     nw->its++;
     nw->total_its++;
-    /* backtracking on ||F||: halve the step until the residual falls */
-    for (int ls = 0; ls < 6 && !accepted; ls++, alpha *= 0.5) {
-      PetscCall(VecWAXPY(nw->xt, alpha, nw->dx, nw->xn));
-      PetscCall(BwNewtonResidual(nw, nw->xt, mu, lam + alpha * dlam, nw->Ft, &tnorm, &tfailed));
-      /* the merit: the residual and the monitor's distance to its target
-       * (linear in alpha: the correction meets it at alpha = 1) */
-      PetscReal tgap = (1 - alpha) * gap / gscale;
-      if (!tfailed && PetscIsNormalReal(tnorm + 1) && (PetscSqrtReal(tnorm * tnorm + tgap * tgap) <= (1 - 1e-4 * alpha) * merit || (tnorm <= nw->rtol && PetscAbsReal(tgap) <= nw->rtol))) accepted = PETSC_TRUE;
-      if (accepted) break;
+    /* backtracking on the merit (the residual and the monitor's distance
+     * to its target, linear in alpha: the correction meets it at alpha =
+     * 1): halve the step until it falls enough (Armijo); failing that, the
+     * trial with the least merit, or the full step if none fell at all
+     * (the residual is not smooth where portions change mode) */
+    {
+      PetscReal best = PETSC_MAX_REAL, best_alpha = 1;
+      for (int ls = 0; ls < 8 && !accepted; ls++, alpha *= 0.5) {
+        PetscReal tgap = (1 - alpha) * gap / gscale, tm;
+        PetscCall(VecWAXPY(nw->xt, alpha, nw->dx, nw->xn));
+        PetscCall(BwNewtonResidual(nw, nw->xt, mu, lam + alpha * dlam, nw->Ft, &tnorm, &tfailed));
+        tm = PetscSqrtReal(tnorm * tnorm + tgap * tgap);
+        if (tfailed || !PetscIsNormalReal(tnorm + 1)) continue;
+        if (tm <= (1 - 1e-4 * alpha) * merit || (tnorm <= nw->rtol && PetscAbsReal(tgap) <= nw->rtol)) accepted = PETSC_TRUE;
+        else if (tm < best) {
+          best       = tm;
+          best_alpha = alpha;
+        }
+        if (accepted) break;
+      }
+      if (!accepted) {
+        alpha = best < merit ? best_alpha : 1;
+        PetscCall(VecWAXPY(nw->xt, alpha, nw->dx, nw->xn));
+        PetscCall(BwNewtonResidual(nw, nw->xt, mu, lam + alpha * dlam, nw->Ft, &tnorm, &tfailed));
+      }
     }
-    if (!accepted) {
-      /* no decrease along the Newton direction (the residual is not
-       * smooth where portions change mode): take the full step */
-      alpha = 1;
-      PetscCall(VecWAXPY(nw->xt, 1.0, nw->dx, nw->xn));
-      PetscCall(BwNewtonResidual(nw, nw->xt, mu, lam + dlam, nw->Ft, &tnorm, &tfailed));
-    }
+    if (nw->debug) PetscCall(PetscPrintf(nw->p->comm, "      step length %g, dlambda %.3e\n", (double)alpha, (double)dlam));
     lam += alpha * dlam;
     PetscCall(VecSwap(nw->xn, nw->xt));
     PetscCall(VecSwap(nw->F, nw->Ft));
@@ -302,6 +321,13 @@ PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, Petsc
     failed = tfailed;
   }
   if (*converged) *lambda = lam;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, PetscBool displacement, PetscReal target, PetscBool *converged)
+{
+  PetscFunctionBeginUser;
+  PetscCall(BwNewtonAttempt(nw, mu, lambda, displacement, target, converged));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

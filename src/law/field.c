@@ -10,8 +10,10 @@ struct _n_BwJointField {
   BwModel         model;
   PetscInt        m, nown;
   const PetscInt *own;
-  PetscReal      *committed, *trial, *tangent, *plastic;
-  signed char    *mode, *committed_mode;
+  PetscReal      *committed, *trial, *tangent, *plastic, *committed_tangent;
+  signed char    *mode, *committed_mode, *seen_mode, *older_mode, *flips;
+  PetscInt        flip_limit;
+  PetscReal      *newton_tangent;
   PetscInt        nfailed, failed_k;
   int             failed_status;
 };
@@ -31,8 +33,9 @@ PetscErrorCode BwJointFieldCreate(BwMixed mixed, BwJointField *field)
   f->nown = own.nown_interfaces;
   f->own  = own.own_interfaces;
   n       = f->m * f->nown;
-  PetscCall(PetscCalloc4(BW_LAW_NSTATE * n + 1, &f->committed, BW_LAW_NSTATE * n + 1, &f->trial, 4 * n + 1, &f->tangent, 2 * n + 1, &f->plastic));
-  PetscCall(PetscCalloc2(n + 1, &f->mode, n + 1, &f->committed_mode));
+  PetscCall(PetscCalloc5(BW_LAW_NSTATE * n + 1, &f->committed, BW_LAW_NSTATE * n + 1, &f->trial, 4 * n + 1, &f->tangent, 2 * n + 1, &f->plastic, 4 * n + 1, &f->committed_tangent));
+  PetscCall(PetscCalloc5(n + 1, &f->mode, n + 1, &f->committed_mode, n + 1, &f->seen_mode, n + 1, &f->older_mode, n + 1, &f->flips));
+  PetscCall(PetscCalloc1(4 * n + 1, &f->newton_tangent));
   /* before any evaluation: the elastic tangents */
   for (PetscInt e = 0; e < f->nown; e++) {
     PetscInt k = f->own[e];
@@ -42,8 +45,10 @@ PetscErrorCode BwJointFieldCreate(BwMixed mixed, BwJointField *field)
       c[3]         = f->model->kn[k];
     }
   }
-  f->failed_k = -1;
-  *field      = f;
+  PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, 4 * n));
+  f->failed_k   = -1;
+  f->flip_limit = 2;
+  *field        = f;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -51,8 +56,9 @@ PetscErrorCode BwJointFieldDestroy(BwJointField *field)
 {
   PetscFunctionBeginUser;
   if (!*field) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PetscFree4((*field)->committed, (*field)->trial, (*field)->tangent, (*field)->plastic));
-  PetscCall(PetscFree2((*field)->mode, (*field)->committed_mode));
+  PetscCall(PetscFree5((*field)->committed, (*field)->trial, (*field)->tangent, (*field)->plastic, (*field)->committed_tangent));
+  PetscCall(PetscFree5((*field)->mode, (*field)->committed_mode, (*field)->seen_mode, (*field)->older_mode, (*field)->flips));
+  PetscCall(PetscFree((*field)->newton_tangent));
   PetscCall(PetscFree(*field));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -111,10 +117,40 @@ PetscErrorCode BwJointFieldFailed(BwJointField f, PetscBool *failed, char why[],
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwJointFieldGetTangents(BwJointField f, const PetscReal **tangent)
+PetscErrorCode BwJointFieldGetTangents(BwJointField f, PetscBool committed, const PetscReal **tangent)
 {
+  PetscInt n = f->m * f->nown;
+
   PetscFunctionBeginUser;
-  *tangent = f->tangent;
+  if (committed) {
+    *tangent = f->committed_tangent;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  /* A portion that keeps changing mode within a step sits at a kink of its
+   * law, typically between softening and elastic unloading, where the two
+   * one-sided tangents have opposite signs and Newton cycles. Such a
+   * portion enters the Newton matrix with its elastic stiffness instead (a
+   * secant bound on both sides): the iteration stays a descent for it and
+   * converges, linearly in that portion, quadratically elsewhere. */
+  PetscCall(PetscArraycpy(f->newton_tangent, f->tangent, 4 * n));
+  for (PetscInt i = 0; i < n; i++)
+    if (f->flips[i] >= f->flip_limit) {
+      PetscInt   k = f->own[i / f->m];
+      PetscReal *c = f->newton_tangent + 4 * i;
+      c[0]         = f->model->kt[k];
+      c[1] = c[2] = 0;
+      c[3]         = f->model->kn[k];
+    }
+  *tangent = f->newton_tangent;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointFieldBeginStep(BwJointField f)
+{
+  PetscInt n = f->m * f->nown;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscArrayzero(f->flips, n));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -125,6 +161,7 @@ PetscErrorCode BwJointFieldCommit(BwJointField f)
   PetscFunctionBeginUser;
   PetscCall(PetscArraycpy(f->committed, f->trial, BW_LAW_NSTATE * n));
   PetscCall(PetscArraycpy(f->committed_mode, f->mode, n));
+  PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, 4 * n));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -153,3 +190,28 @@ PetscErrorCode BwJointFieldCount(BwJointField f, PetscInt count[4])
   PetscCallMPI(MPI_Allreduce(loc, count, 4, MPIU_INT, MPI_SUM, f->comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+
+PetscErrorCode BwJointFieldModeChanges(BwJointField f, PetscBool first, PetscInt *changes)
+{
+  PetscInt loc = 0, n = f->m * f->nown;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < n; i++) {
+    if (first) {
+      /* the step's first evaluation (zero increment) is no iterate */
+      f->seen_mode[i] = f->older_mode[i] = f->mode[i];
+      continue;
+    }
+    if (f->mode[i] != f->seen_mode[i]) {
+      loc++;
+      /* back to the mode it had before: an oscillation */
+      if (f->mode[i] == f->older_mode[i] && f->flips[i] < 100) f->flips[i]++;
+      f->older_mode[i] = f->seen_mode[i];
+      f->seen_mode[i]  = f->mode[i];
+    }
+  }
+  PetscCallMPI(MPI_Allreduce(&loc, changes, 1, MPIU_INT, MPI_SUM, f->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+

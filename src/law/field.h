@@ -24,8 +24,12 @@ PetscErrorCode BwJointFieldBegin(BwJointField field);
 /* After it (collective): whether a law failed on any rank, and a line
  * naming the first interface where it did. */
 PetscErrorCode BwJointFieldFailed(BwJointField field, PetscBool *failed, char why[], size_t len);
-/* The tangents of the last evaluation, 4 per portion (BwMixedSetTangents). */
-PetscErrorCode BwJointFieldGetTangents(BwJointField field, const PetscReal **tangent);
+/* The tangents of the last evaluation, or (committed) those the last
+ * converged state was reached with, 4 per portion (BwMixedSetTangents).
+ * The committed ones start a step: re-evaluated at the converged state
+ * with a zero increment, a portion on its yield surface answers with its
+ * elastic stiffness, a poor predictor of a flow that goes on. */
+PetscErrorCode BwJointFieldGetTangents(BwJointField field, PetscBool committed, const PetscReal **tangent);
 /* The trial state becomes the committed one (a converged step). */
 PetscErrorCode BwJointFieldCommit(BwJointField field);
 /* Per owned portion: the committed mode (0 elastic, 1 open, 2 sliding,
@@ -34,3 +38,9 @@ PetscErrorCode BwJointFieldCommit(BwJointField field);
  * all ranks. */
 PetscErrorCode BwJointFieldGetState(BwJointField field, const signed char **mode, PetscReal **plastic);
 PetscErrorCode BwJointFieldCount(BwJointField field, PetscInt count[4]);
+/* A new step from the committed state: the portions' mode changes are
+ * counted from here (BwJointFieldGetTangents). */
+PetscErrorCode BwJointFieldBeginStep(BwJointField field);
+/* Portions whose mode differs from the last call's (collective): how much
+ * the active sets still move between Newton iterations. */
+PetscErrorCode BwJointFieldModeChanges(BwJointField field, PetscBool first, PetscInt *changes);

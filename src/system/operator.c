@@ -415,13 +415,14 @@ static PetscErrorCode BwMixedAddSpring(BwMixed mx, Vec xq, Vec yq)
   PetscInt row = mx->qrow[mx->spring_block];
 
   PetscFunctionBeginUser;
-  if (row >= 0 && row >= mx->qstart && row < mx->qstart + mx->nq_local) {
+  /* every rank takes the arrays: the state of yq moves everywhere (a state
+   * bumped on one rank only leaves stale cached norms on the others) */
+  {
     const PetscScalar *x;
     PetscScalar       *y;
-    PetscInt           i = row - mx->qstart + mx->spring_dof;
     PetscCall(VecGetArrayRead(xq, &x));
     PetscCall(VecGetArray(yq, &y));
-    y[i] += mx->spring * x[i];
+    if (row >= 0 && row >= mx->qstart && row < mx->qstart + mx->nq_local) y[row - mx->qstart + mx->spring_dof] += mx->spring * x[row - mx->qstart + mx->spring_dof];
     PetscCall(VecRestoreArray(yq, &y));
     PetscCall(VecRestoreArrayRead(xq, &x));
   }
