@@ -383,7 +383,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
   }
   if (s->requested != BW_METHOD_DIRECT) {
     s->used       = BW_METHOD_FIELDSPLIT;
-    s->schur_used = !s->schur_iterative ? "cholesky" : s->schur == BW_SCHUR_HYPRE ? "hypre" : "gamg";
+    s->schur_used = !s->schur_iterative ? (s->symmetric ? "cholesky" : "lu") : s->schur == BW_SCHUR_HYPRE ? "hypre" : "gamg";
     PetscCall(BwSolverRun(s, &s->fieldsplit, b, x, log, &ok, &usable, reason, sizeof(reason)));
     if (!ok) {
       if (usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_FIELDSPLIT, x, &best));
@@ -403,7 +403,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     if (type) {
       if (!s->cholesky.ksp) PetscCall(BwSolverCreateFieldsplit(s, &s->cholesky, "cholesky_", PETSC_TRUE));
       s->used       = BW_METHOD_FIELDSPLIT;
-      s->schur_used = "cholesky";
+      s->schur_used = s->symmetric ? "cholesky" : "lu";
       PetscCall(BwSolverRun(s, &s->cholesky, b, x, log, &ok, &usable, why, sizeof(why)));
       if (!ok && usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_FIELDSPLIT, x, &best));
       if (!ok) PetscCall(PetscStrncpy(reason, why, sizeof(reason)));

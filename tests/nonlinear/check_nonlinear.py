@@ -36,6 +36,14 @@ its reference and why its tolerance is what it is.
                    error over 10 decay lengths and the peak's kink); and every
                    step lies on the closed-form curve (elastic to ft, then
                    sigma = ft exp(-ft (u - sigma/kn)/GfI)) to 1e-9 of ft A.
+  dilatancy        the sliding block with tan(psi) = 0.3 < tan(phi): the
+                   tangent is not symmetric (S^ factored by LU); the plateau
+                   is still c A + N tan(phi) (1e-10) and the block rises by
+                   tan(psi) times its plastic slip (1e-8 of the slip).
+  collapse         the overturning stack under load control beyond its limit:
+                   the run stops with stop_reason "collapse" at a lambda
+                   below the limit and within 2 % of it, exit 0, and every
+                   step written converged (residual <= tolerance).
   step_size        the sliding block with 10 and 40 steps: the same load
                    factor at the target to 1e-12 (its stress path is radial,
                    so backward Euler is exact whatever the step).
@@ -225,6 +233,51 @@ def softening():
         expect(worst <= 1e-9, f"a step off the closed-form softening curve by {worst:.2e} of ft A")
         expect(lam.max() <= ft * A * (1 + 1e-12), f"peak {lam.max():.12g} above ft A = {ft * A}")
         print(f"dissipated {work:.6f} J against GfI A (1 - exp(..)) + elastic = {want:.6f} J ({e:.1e}); every step on the closed-form curve to {worst:.1e}")
+
+
+def dilatancy():
+    c, tphi, tpsi, N, A, kt = 1.0e4, 0.75, 0.3, 1000.0, 0.2 * 0.1, 4e10
+    cap = c * A + N * tphi
+    with tempfile.TemporaryDirectory() as tmp:
+        res, r = pushover_block(tmp, 8, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}, dilatancy: {tpsi}", (1, 0, 0.055), "u1", 1e-4)
+    lam = r.history["load_factor"]
+    e = abs(lam[-1] - cap) / cap
+    expect(e <= 1e-10, f"plateau {lam[-1]:.12g}, c A + N tan(phi) = {cap:.12g} ({e:.1e})")
+    slip, opening = r.plastic_jump[0][:, 0], r.plastic_jump[0][:, 1]
+    expect(np.allclose(opening, tpsi * np.abs(slip), rtol=0, atol=1e-8 * np.abs(slip).max()), f"plastic opening {opening} is not tan(psi) |slip| {tpsi * np.abs(slip)}")
+    schur = res["solver"]["schur_solve"]
+    schur = schur.decode() if isinstance(schur, bytes) else schur
+    expect(schur == "lu", f"non-symmetric tangents, Schur solve {schur!r}: S^ must be factored by LU")
+    print(f"dilatancy {tpsi}: plateau {lam[-1]:.12g} ({e:.1e}), plastic opening = tan(psi) |slip| = {opening.mean():.3e} m")
+
+
+def collapse():
+    with tempfile.TemporaryDirectory() as tmp:
+        b, h, e, n = 0.2, 0.2, 0.002, 4
+        g = bw.Geometry(depth=0.1)
+        g.add_block(bw.rectangle(-0.2, -0.2, 0.4, 0.0), sets=["base"])
+        for k in range(n):
+            y0 = e + k * (h + e)
+            g.add_block(bw.rectangle(0, y0, b, y0 + h), sets=["top"] if k == n - 1 else [])
+        g.write(os.path.join(tmp, "stack.h5"))
+        text = f"""geometry: {{generator: file, file: stack.h5}}
+joints: {{law: dry, kn: 1.0e12, kt: 4.0e11, thickness: {e}, strength: {{tension: 0, cohesion: 0, friction: 0.6}}}}
+discretization: {{m: 64}}
+supports: {{base: {{u1: 0, u2: 0, w: 0}}}}
+gravity: {{density: 2000}}
+analysis: {{type: pushover, pushover: {{body_force: [1, 0], control: load, target: 0.3, steps: 30, min_step: 1.0e-3}}}}
+output: {{file: out.h5, stresses: false, xdmf: false}}
+"""
+        res, r = solve(tmp, text)
+    zc = np.mean([e + k * (h + e) + h / 2 - e / 2 for k in range(n)])
+    limit = (b / 2) / zc
+    lam = r.history["load_factor"]
+    stop = res["solver"]["stop_reason"]
+    stop = stop.decode() if isinstance(stop, bytes) else stop
+    expect(stop.startswith("collapse"), f"stop_reason {stop!r}")
+    expect(lam[-1] <= limit * (1 + 1e-9) and lam[-1] >= 0.98 * limit, f"collapse at lambda {lam[-1]:.6g}, limit {limit:.6g}")
+    expect((r.history["residual"] <= 1e-8).all(), f"a written step did not converge: {r.history['residual'].max():.2e}")
+    print(f"load control: collapse at lambda {lam[-1]:.5f} ({lam[-1] / limit:.4f} of the limit {limit:.5f}); stop: {stop[:60]}...")
 
 
 def step_size():

@@ -1,10 +1,21 @@
 # Nonlinear joints and pushover (ctest -L nonlinear): closed forms and
 # invariants, tests/nonlinear/check_nonlinear.py says each reference and
 # tolerance.
-foreach(case eccentric sliding overturning stack_overturn stack_slide softening step_size elastic_limit)
+foreach(case eccentric sliding dilatancy overturning stack_overturn stack_slide collapse softening step_size elastic_limit)
   bw_py_test(nonlinear.${case} nonlinear nonlinear/check_nonlinear.py ${case})
 endforeach()
 bw_py_test(nonlinear.errors "nonlinear;errors" nonlinear/check_nonlinear.py errors)
 foreach(np 2 3)
   bw_py_test(nonlinear.ranks_${np} "nonlinear;mpi" nonlinear/check_nonlinear.py ranks ${np})
+endforeach()
+
+# Load, unload, reload through the Newton solver itself (the pushover
+# contract has no cycles): unloading on the initial stiffness.
+add_executable(test_newton ${CMAKE_CURRENT_LIST_DIR}/../unit/test_newton.c)
+target_link_libraries(test_newton PRIVATE blockwall_core)
+foreach(np 1 2)
+  add_test(NAME nonlinear.unload_reload_${np}
+           COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np} $<TARGET_FILE:test_newton>
+                   -scene ${CMAKE_CURRENT_LIST_DIR}/../unit/newton_block.yaml)
+  set_tests_properties(nonlinear.unload_reload_${np} PROPERTIES LABELS "nonlinear;unit" ENVIRONMENT "${BW_MPI_ENV}")
 endforeach()
