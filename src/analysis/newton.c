@@ -189,7 +189,9 @@ static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscBoo
 
   PetscFunctionBeginUser;
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  PetscCall(BwSolverSetForwardCheck(nw->p->solver, PETSC_FALSE));
   ierr = BwSolverSolve(nw->p->solver, rhs, dx, &nw->log);
+  PetscCall(BwSolverSetForwardCheck(nw->p->solver, PETSC_TRUE));
   PetscCall(PetscPopErrorHandler());
   nw->total_solves++;
   *ok = ierr ? PETSC_FALSE : PETSC_TRUE;

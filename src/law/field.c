@@ -12,7 +12,7 @@ struct _n_BwJointField {
   const PetscInt *own;
   PetscReal      *committed, *trial, *tangent, *plastic, *committed_tangent;
   signed char    *mode, *committed_mode, *seen_mode, *older_mode, *flips;
-  PetscInt        flip_limit;
+  PetscInt        flip_limit, quiet;
   PetscReal      *newton_tangent;
   PetscInt        nfailed, failed_k;
   int             failed_status;
@@ -212,6 +212,10 @@ PetscErrorCode BwJointFieldModeChanges(BwJointField f, PetscBool first, PetscInt
     }
   }
   PetscCallMPI(MPI_Allreduce(&loc, changes, 1, MPIU_INT, MPI_SUM, f->comm));
+  /* the active sets have settled (two evaluations without a change):
+   * consistent tangents again everywhere */
+  f->quiet = first || *changes ? 0 : f->quiet + 1;
+  if (f->quiet >= 2) PetscCall(PetscArrayzero(f->flips, n));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -107,7 +107,7 @@ static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, K
     s->fw_it            = it;
     s->forward_estimate = est;
   }
-  if (*reason > 0 && !(s->forward_estimate <= s->forward_rtol)) *reason = KSP_CONVERGED_ITERATING;
+  if (*reason > 0 && s->forward_check && !(s->forward_estimate <= s->forward_rtol)) *reason = KSP_CONVERGED_ITERATING;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

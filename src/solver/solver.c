@@ -33,6 +33,7 @@ PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver)
   s->expected_solves    = 1;
   s->symmetric          = PETSC_TRUE;
   s->diagnose           = PETSC_TRUE;
+  s->forward_check      = PETSC_TRUE;
   s->storage            = BW_STORAGE_SHELL;
   s->forward_rtol       = -1; /* = rtol unless set */
   s->forward_estimate   = -1;
@@ -178,6 +179,13 @@ PetscErrorCode BwSolverSetSymmetric(BwSolver s, PetscBool symmetric)
   PetscFunctionBeginUser;
   PetscCheck(!s->mx, s->comm, PETSC_ERR_ORDER, "BwSolverSetSymmetric after BwSolverSetUp");
   s->symmetric = symmetric;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwSolverSetForwardCheck(BwSolver s, PetscBool check)
+{
+  PetscFunctionBeginUser;
+  s->forward_check = check;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

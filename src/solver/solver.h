@@ -55,6 +55,12 @@ PetscErrorCode BwSolverSetSymmetric(BwSolver solver, PetscBool symmetric);
  * name (default; one more factorisation). A nonlinear analysis, for which
  * a singular tangent is the collapse it is looking for, turns it off. */
 PetscErrorCode BwSolverSetDiagnose(BwSolver solver, PetscBool diagnose);
+/* Whether a solve must also meet solver.forward_rtol on its estimated
+ * displacement error (default), which takes two steps of refinement at
+ * least. Newton's corrections need only a small residual: their errors are
+ * corrected by the next iteration, which checks the true residual of the
+ * nonlinear system itself. */
+PetscErrorCode BwSolverSetForwardCheck(BwSolver solver, PetscBool check);
 /* Binds the solver to an assembled system and creates its KSPs (no
  * factorisation yet: that is the first solve's set-up phase). */
 PetscErrorCode BwSolverSetUp(BwSolver solver, BwMixed mixed);

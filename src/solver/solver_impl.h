@@ -33,6 +33,7 @@ struct _n_BwSolver {
   PetscInt     kaij_state; /* the operators' values state Kaij holds */
   PetscBool    symmetric;  /* the operators stay symmetric (else LU and GMRES where Cholesky and CG) */
   PetscBool    diagnose;   /* a failed solve names a mechanism (an extra factorisation) */
+  PetscBool    forward_check; /* a solve also meets solver.forward_rtol (two refinement steps at least) */
   /* outcome of the last solve */
   BwMethod     used;
   const char  *schur_used; /* the Schur solve of the answer's fieldsplit path: cholesky | gamg | hypre; "" otherwise */

@@ -215,7 +215,7 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed)
   PetscCall(ISDestroy(&mx->isr));
   PetscCall(ISDestroy(&mx->isq));
   PetscCall(VecDestroy(&mx->pmask));
-  PetscCall(PetscFree(mx->tangent));
+  PetscCall(PetscFree2(mx->tangent, mx->scaled_tangent));
   PetscCall(PetscFree(mx->kg_interfaces));
   PetscCall(PetscFree(mx->kg));
   PetscCall(VecScatterDestroy(&mx->kg_scatter));

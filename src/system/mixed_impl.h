@@ -46,6 +46,7 @@ struct _n_BwMixed {
    * the elastic ones; and the interface stiffness K_G (9 per interface) of
    * every interface touching an owned block, from them */
   PetscReal *tangent;
+  PetscReal *scaled_tangent; /* T = C^-1/2 C_t C^-1/2, 4 per portion, from tangent */
   PetscInt   nkg, *kg_interfaces; /* sorted */
   PetscReal *kg;
   VecScatter kg_scatter;          /* owners' K_G -> ranks that assemble rows with them */

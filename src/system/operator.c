@@ -221,14 +221,12 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
 /* T = C^-1/2 C_t C^-1/2 of portion p of owned interface e (row-major 2x2). */
 static inline void BwScaledTangent(BwMixed mx, PetscInt e, PetscInt p, PetscReal T[4])
 {
-  PetscInt         k = mx->own_interfaces[e];
-  const PetscReal *c = mx->tangent + 4 * (mx->m * e + p);
-  PetscReal        st = 1 / PetscSqrtReal(mx->model->kt[k]), sn = 1 / PetscSqrtReal(mx->model->kn[k]);
+  const PetscReal *t = mx->scaled_tangent + 4 * (mx->m * e + p);
 
-  T[0] = c[0] * st * st;
-  T[1] = c[1] * st * sn;
-  T[2] = c[2] * sn * st;
-  T[3] = c[3] * sn * sn;
+  T[0] = t[0];
+  T[1] = t[1];
+  T[2] = t[2];
+  T[3] = t[3];
 }
 
 PetscErrorCode BwMixedApplyTangent(BwMixed mx, Vec yr)
@@ -573,9 +571,22 @@ PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
 
   PetscFunctionBeginUser;
   if (tangent) {
-    if (!mx->tangent) PetscCall(PetscMalloc1(n + 1, &mx->tangent));
+    if (!mx->tangent) PetscCall(PetscMalloc2(n + 1, &mx->tangent, n + 1, &mx->scaled_tangent));
     PetscCall(PetscArraycpy(mx->tangent, tangent, n));
-  } else PetscCall(PetscFree(mx->tangent));
+    /* T = C^-1/2 C_t C^-1/2 once here: every product with K applies it */
+    for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+      PetscInt  k  = mx->own_interfaces[e];
+      PetscReal st = 1 / PetscSqrtReal(mx->model->kt[k]), sn = 1 / PetscSqrtReal(mx->model->kn[k]);
+      for (PetscInt p = 0; p < mx->m; p++) {
+        const PetscReal *c = mx->tangent + 4 * (mx->m * e + p);
+        PetscReal       *t = mx->scaled_tangent + 4 * (mx->m * e + p);
+        t[0]               = c[0] * st * st;
+        t[1]               = c[1] * st * sn;
+        t[2]               = c[2] * sn * st;
+        t[3]               = c[3] * sn * sn;
+      }
+    }
+  } else PetscCall(PetscFree2(mx->tangent, mx->scaled_tangent));
   PetscCall(BwMixedValuesChanged(mx));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -244,7 +244,9 @@ PetscErrorCode BwMixedRefillS(BwMixed mx)
   for (PetscInt e = 0; mx->tangent && e < mx->nown_interfaces * mx->m && symmetric; e++) symmetric = (PetscBool)(mx->tangent[4 * e + 1] == mx->tangent[4 * e + 2]);
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &symmetric, 1, MPIU_BOOL, MPI_LAND, mx->comm));
   PetscCall(MatSetOption(mx->S, MAT_SYMMETRIC, symmetric));
-  PetscCall(MatSetOption(mx->S, MAT_SPD, symmetric && !mx->tangent));
+  /* SPD only for elastic joints for good: MUMPS picks LL^T or LDL^T once,
+   * at the first factorisation, and softening tangents make S^ indefinite */
+  PetscCall(MatSetOption(mx->S, MAT_SPD, symmetric && !mx->tangent && !mx->model->nonlinear));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_ASSEMBLE_S], 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
