@@ -135,6 +135,7 @@ int main(int argc, char **argv)
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   PetscCall(BwSignalsInstall(PETSC_COMM_WORLD));
+  PetscCall(BwBlasSetThreads(PETSC_COMM_WORLD));
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   ierr = BwSceneCheckArguments(PETSC_COMM_WORLD, argc, argv);
   if (!ierr) ierr = BwRunMain(PETSC_COMM_WORLD, &run);

@@ -2,6 +2,8 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <unistd.h>
+#include <dlfcn.h>
+#include <stdlib.h>
 #include "util/log.h"
 #include "util/compat.h"
 
@@ -138,5 +140,23 @@ PetscErrorCode BwBlasName(char name[], size_t len)
     }
   }
   fclose(f);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwBlasSetThreads(MPI_Comm comm)
+{
+  MPI_Comm    node;
+  PetscMPIInt local;
+  long        cores = sysconf(_SC_NPROCESSORS_ONLN);
+  void (*set)(int);
+
+  PetscFunctionBeginUser;
+  if (getenv("OPENBLAS_NUM_THREADS") || getenv("OMP_NUM_THREADS") || getenv("GOTO_NUM_THREADS")) PetscFunctionReturn(PETSC_SUCCESS);
+  *(void **)&set = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+  if (!set) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCallMPI(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
+  PetscCallMPI(MPI_Comm_size(node, &local));
+  PetscCallMPI(MPI_Comm_free(&node));
+  set((int)PetscMax(1, cores > 0 ? cores / local : 1));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

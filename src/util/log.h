@@ -33,5 +33,12 @@ PetscErrorCode BwMemoryAvailable(PetscLogDouble *bytes);
  * node cannot have that much together: one error line saying what was asked
  * for (`what`), what it needs and what the node has. Collective. */
 PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char what[]);
+/* OpenBLAS's threads: the node's cores shared among the ranks on it (one
+ * each when there are as many ranks as cores), unless OPENBLAS_NUM_THREADS
+ * or OMP_NUM_THREADS says otherwise. Its default, a thread per core in
+ * every rank, oversubscribes the node, and its idle threads spin: on 2
+ * ranks of a 2-core machine, 45 % of a pushover's time went to sched_yield.
+ * Nothing happens with another BLAS. */
+PetscErrorCode BwBlasSetThreads(MPI_Comm comm);
 /* Path of the BLAS library this process loaded (from /proc/self/maps). */
 PetscErrorCode BwBlasName(char name[], size_t len);
