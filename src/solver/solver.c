@@ -290,6 +290,13 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   PetscCall(VecZeroEntries(x));
   /* a PETSc error in a solver is a failed path: caught, not raised */
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  {
+    PetscInt state;
+    PetscCall(BwMixedGetValuesState(s->mx, &state));
+    if (state != s->values_seen || !path->ran_once) s->setups++;
+    s->values_seen = state;
+    path->ran_once = PETSC_TRUE;
+  }
   PetscCall(BwLogBegin(log, BW_PHASE_SETUP));
   ierr = KSPSetUp(path->ksp);
   PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
@@ -478,6 +485,7 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
   PetscFunctionBeginUser;
   PetscCall(BwReportString(r, "method_requested", BwMethods[s->requested]));
   PetscCall(BwReportString(r, "method_used", BwMethods[s->used]));
+  PetscCall(BwReportInt(r, "setups", s->setups));
   PetscCall(BwReportString(r, "schur_solve", s->used == BW_METHOD_FIELDSPLIT && s->schur_used ? s->schur_used : ""));
   PetscCall(BwReportInt(r, "fallback", s->fallback));
   PetscCall(BwReportString(r, "fallback_reason", s->fallback_reason));

@@ -12,7 +12,7 @@ typedef struct {
   const char *name;   /* for messages: "fieldsplit", "fieldsplit with S^ factored", "direct (LU)" */
   KSP         ksp;
   BwMethod    method; /* what /solver calls it */
-  PetscBool   ran;
+  PetscBool   ran, ran_once; /* in the last solve; ever (its first solve sets it up) */
 } BwPath;
 
 struct _n_BwSolver {
@@ -31,6 +31,7 @@ struct _n_BwSolver {
   BwPath       fieldsplit, cholesky, direct, condensed;
   Mat          Kaij; /* the assembled saddle matrix of the direct path, built on demand */
   PetscInt     kaij_state; /* the operators' values state Kaij holds */
+  PetscInt     values_seen, setups; /* operator values of the last solve; solves that set up a new factor or hierarchy */
   PetscBool    symmetric;  /* the operators stay symmetric (else LU and GMRES where Cholesky and CG) */
   PetscBool    diagnose;   /* a failed solve names a mechanism (an extra factorisation) */
   PetscBool    forward_check; /* a solve also meets solver.forward_rtol (two refinement steps at least) */

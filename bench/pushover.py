@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Pushover benchmarks (issue "Walls to collapse"), medians of --reps runs
+with min and max, written as a dated section into bench/results.md:
+
+  j4d    the TU Eindhoven wall J4D (examples/j4d.yaml: 4.5 units per course,
+         split units, 0.30 MPa held, top beam kept horizontal), 100
+         displacement steps to 4 mm, 1 rank (target <= 10 s)
+  large  a running-bond wall of ~1e4 blocks with the same joints, driven
+         under displacement control to well past its peak, 2 ranks (target:
+         50 steps past the peak in <= 120 s); per run: steps, steps past the
+         peak, Newton iterations per step, linear solves per step, set-ups
+         (factorisations) per run
+
+usage: bench/pushover.py [--parts j4d,large] [--reps 3]
+"""
+import argparse
+import datetime
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "python"))
+sys.path.insert(0, os.path.join(ROOT, "bench"))
+import blockwall as bw  # noqa: E402
+from speed import machine  # noqa: E402
+
+LARGE = """title: 1e4-block running-bond wall pushover
+geometry:
+  generator: running_bond
+  depth: 0.1
+  running_bond: {{courses: {courses}, units_per_course: {units}, unit_length: 0.21, unit_height: 0.052, foundation: true, top_beam: true}}
+joints: {{law: dry, kn: 82.0e9, kt: 36.0e9, thickness: 0.01, strength: {{tension: 0.25e6, cohesion: 0.35e6, friction: 0.75, dilatancy: 0, tension_energy: 18, shear_energy: 125}}}}
+discretization: {{m: 8}}
+supports: {{foundation: {{u1: 0, u2: 0, w: 0}}, top_beam: {{w: 0}}}}
+loads: {{top_beam: [0, {N}, 0]}}
+analysis:
+  type: pushover
+  pushover: {{loads: {{top_beam: [1, 0, 0]}}, control: displacement, monitor: {{set: top_beam, dof: u1}}, target: {target}, steps: {steps}}}
+output: {{file: out.h5, stresses: false, xdmf: false}}
+"""
+
+
+def one(scene, ranks, args=()):
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "out.h5")
+        t0 = time.perf_counter()
+        r = bw.run(scene, ["-output_file", out, "-progress", "false", *args], ranks)
+        dt = time.perf_counter() - t0
+        res = bw.read(out)
+    s = res.solver
+    h = res.history
+    peak = int(h["load_factor"].argmax())
+    n = len(h["load_factor"])
+    stop = s["stop_reason"]
+    return {"time": dt, "steps": n - 1, "past_peak": n - 1 - peak, "peak": h["load_factor"].max(),
+            "peak_monitor": h["monitor"][peak], "its": s["newton_iterations"], "solves": s["linear_solves"],
+            "setups": s.get("setups", -1), "stop": stop, "blocks": res.displacement.shape[0]}
+
+
+def fmt(xs):
+    return f"{statistics.median(xs):.2f} s ({min(xs):.2f}–{max(xs):.2f})"
+
+
+def table(title, runs):
+    r = runs[-1]
+    lines = ["", f"### {title}", "",
+             f"Whole run (median of {len(runs)}, min–max): {fmt([x['time'] for x in runs])}; {r['blocks']} blocks.", "",
+             "| steps | past the peak | peak load [N] | at monitor [m] | Newton iterations per step | linear solves per step | set-ups (factorisations) | stop |",
+             "|---:|---:|---:|---:|---:|---:|---:|---|",
+             f"| {r['steps']} | {r['past_peak']} | {r['peak']:.1f} | {r['peak_monitor']:.3e} | {r['its'] / max(1, r['steps']):.1f} | "
+             f"{r['solves'] / max(1, r['steps']):.1f} | {r['setups']} | {r['stop'][:90]} |"]
+    return lines
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--parts", default="j4d,large")
+    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results.md"))
+    ap.add_argument("--no-write", action="store_true")
+    a = ap.parse_args()
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+    lines = [f"\n## {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, commit {commit}, bench/pushover.py", "",
+             f"Machine: {machine()}"]
+    if "j4d" in a.parts:
+        scene = os.path.join(ROOT, "examples", "j4d.yaml")
+        runs = [one(scene, 1) for _ in range(a.reps)]
+        for r in runs:
+            print(f"  j4d: {r['time']:.2f} s, {r['steps']} steps", flush=True)
+        lines += table("J4D wall (split units), 100 displacement steps to 4 mm, 1 rank (target ≤ 10 s)", runs)
+    if "large" in a.parts:
+        with tempfile.TemporaryDirectory() as tmp:
+            scene = os.path.join(tmp, "large.yaml")
+            with open(scene, "w") as f:
+                # 100 courses of 100 units: 10 102 blocks, 21.99 m long; 0.30 MPa
+                f.write(LARGE.format(courses=100, units=100, N=-0.30e6 * 21.99 * 0.1, target=8e-3, steps=80))
+            runs = [one(scene, 2) for _ in range(a.reps)]
+        for r in runs:
+            print(f"  large: {r['time']:.2f} s, {r['steps']} steps, {r['past_peak']} past the peak", flush=True)
+        lines += table("~1e4-block wall, same joints, displacement control past the peak, 2 ranks (target: 50 steps past the peak ≤ 120 s)", runs)
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if not a.no_write:
+        with open(a.out, "a") as f:
+            f.write(text)
+
+
+if __name__ == "__main__":
+    main()
