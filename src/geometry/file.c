@@ -571,9 +571,8 @@ static PetscErrorCode BwFileGenerate(BwGenerator gen, BwGeometry g, BwScene scen
   if (!rank) {
     PetscErrorCode ierr = BwFileBuild(g, &d, thickness);
     if (ierr) {
-      char *specific = NULL;
-      PetscErrorMessage(ierr, NULL, &specific);
-      PetscCall(PetscStrncpy(msg, specific && specific[0] ? specific : "reading the geometry file failed", sizeof(msg)));
+      const char *specific = BwErrorText(ierr);
+      PetscCall(PetscStrncpy(msg, specific[0] ? specific : "reading the geometry file failed", sizeof(msg)));
       err = (int)ierr;
     }
     PetscCall(BwFileDataDestroy(&d));

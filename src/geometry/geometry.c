@@ -3,8 +3,19 @@
  *   A = 1/2 sum (x_k y_k+1 - x_k+1 y_k),  c = 1/(6A) sum (p_k + p_k+1)(x_k y_k+1 - x_k+1 y_k).
  * Vertices are shifted by the polygon's first vertex before the sums so that
  * an assembly far from the origin keeps its digits. */
+#include <string.h>
 #include "geometry/geometry.h"
 #include "util/compat.h"
+
+/* A set given in the scene: the blocks whose centroid lies in a closed box,
+ * or a list of block indices. */
+struct _n_BwSceneSet {
+  char      *name;
+  char       option[PETSC_MAX_OPTION_NAME + 1]; /* -sets_NAME_box or -sets_NAME_blocks, for messages */
+  PetscBool  isbox;
+  PetscReal  box[4];
+  PetscInt   n, *blocks;
+};
 
 static PetscFunctionList BwGeometryList = NULL;
 const char *const        BwJointKindNames[BW_JOINT_NKINDS] = {"bed", "head", "unit"};
@@ -58,6 +69,11 @@ PetscErrorCode BwGeometryDestroy(BwGeometry *geom)
   PetscCall(PetscFree(g->length));
   PetscCall(PetscFree(g->kind));
   PetscCall(PetscFree(g->kn));
+  for (PetscInt k = 0; k < g->nscenesets; k++) {
+    PetscCall(PetscFree(g->scenesets[k].name));
+    PetscCall(PetscFree(g->scenesets[k].blocks));
+  }
+  PetscCall(PetscFree(g->scenesets));
   PetscCall(PetscFree(g->kt));
   for (PetscInt s = 0; s < g->nsets; s++) PetscCall(PetscFree(g->setname[s]));
   PetscCall(PetscFree(g->setname));
@@ -233,6 +249,169 @@ PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene)
   PetscCall(PetscNew(&g->generator));
   PetscCall((*create)(g->generator));
   PetscCall(g->generator->setfromoptions(g->generator, g, scene));
+  PetscCall(BwGeometrySceneSetsFromOptions(g, scene));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Names of the scene's sets: the file's mapping `sets`, and sets given on
+ * the command line only (-sets_NAME_box, -sets_NAME_blocks). */
+static PetscErrorCode BwGeometrySceneSetNames(BwScene scene, PetscInt *n, char ***names)
+{
+  PetscInt nfile, nopt, count;
+  char   **file, **opts, **all;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwSceneListChildren(scene, "-sets", &nfile, &file));
+  PetscCall(BwSceneListOptions(scene, "sets_", &nopt, &opts));
+  PetscCall(PetscMalloc1(nfile + nopt + 1, &all));
+  for (count = 0; count < nfile; count++) all[count] = file[count];
+  for (PetscInt o = 0; o < nopt; o++) {
+    const char *rest = opts[o] + strlen("sets_");
+    size_t      len  = strlen(rest), cut = 0;
+    char        name[PETSC_MAX_OPTION_NAME];
+    PetscBool   known = PETSC_FALSE;
+    if (len > 4 && !strcmp(rest + len - 4, "_box")) cut = len - 4;
+    else if (len > 7 && !strcmp(rest + len - 7, "_blocks")) cut = len - 7;
+    if (!cut) {
+      /* a file's set with a misspelt key is caught as an unused key, with
+       * the nearest name; only a command-line set without a kind is here */
+      PetscBool infile = PETSC_FALSE;
+      for (PetscInt c = 0; c < nfile && !infile; c++) {
+        size_t l = strlen(all[c]);
+        infile   = !strncmp(rest, all[c], l) && rest[l] == '_' ? PETSC_TRUE : PETSC_FALSE;
+      }
+      if (infile) continue;
+      {
+        char opt[PETSC_MAX_OPTION_NAME + 1];
+        PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", opts[o]));
+        PetscCall(BwSceneError(scene, opt, "is not a set definition: a set is a mapping {box: [x0, y0, x1, y1]} or {blocks: [b, ...]}"));
+      }
+    }
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%.*s", (int)cut, rest));
+    for (PetscInt c = 0; c < count && !known; c++) PetscCall(PetscStrcmp(all[c], name, &known));
+    if (!known) PetscCall(PetscStrallocpy(name, &all[count++]));
+  }
+  all[count] = NULL;
+  PetscCall(PetscFree(file)); /* the names moved to all */
+  PetscCall(PetscStrArrayDestroy(&opts));
+  *n     = count;
+  *names = all;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Reads sets.NAME.{box | blocks}, checked now, before any work; the blocks
+ * are found once the geometry exists (BwGeometryMakeSceneSets). */
+PetscErrorCode BwGeometrySceneSetsFromOptions(BwGeometry g, BwScene scene)
+{
+  PetscInt n     = 0;
+  char   **names = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwSceneHelpSection(scene, "Sets defined in the scene (scene key sets.NAME.box: [x0, y0, x1, y1] (blocks whose centroid lies in the closed box) or sets.NAME.blocks: [b, ...])"));
+  PetscCall(BwSceneRequireMapping(scene, "-sets", "NAME: {box: [x0, y0, x1, y1]} or NAME: {blocks: [b, ...]}"));
+  PetscCall(BwGeometrySceneSetNames(scene, &n, &names));
+  PetscCall(PetscCalloc1(n, &g->scenesets));
+  g->nscenesets = n;
+  for (PetscInt k = 0; k < n; k++) {
+    struct _n_BwSceneSet *set = &g->scenesets[k];
+    char                  opt[PETSC_MAX_OPTION_NAME + 1], optbox[PETSC_MAX_OPTION_NAME + 1], optblocks[PETSC_MAX_OPTION_NAME + 1];
+    PetscReal            *box = NULL;
+    PetscInt              nbox = 0;
+    PetscBool             hasbox, hasblocks;
+
+    PetscCall(PetscStrallocpy(names[k], &set->name));
+    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-sets_%s", names[k]));
+    PetscCall(PetscSNPrintf(optbox, sizeof(optbox), "-sets_%s_box", names[k]));
+    PetscCall(PetscSNPrintf(optblocks, sizeof(optblocks), "-sets_%s_blocks", names[k]));
+    PetscCall(BwSceneRequireMapping(scene, opt, "box: [x0, y0, x1, y1] or blocks: [b, ...]"));
+    PetscCall(BwSceneRealArray(scene, optbox, "The blocks whose centroid lies in the closed box [x0, y0, x1, y1] [m]", &box, &nbox, &hasbox));
+    PetscCall(BwSceneIntArray(scene, optblocks, "Block indices (0-based, in the geometry's order)", &set->blocks, &set->n, &hasblocks));
+    if (hasbox && hasblocks) PetscCall(BwSceneError(scene, optblocks, "and box both define set '%s': give one of them", names[k]));
+    {
+      /* a misspelt kind (boxx) named as such, not as a set without one */
+      PetscInt nkeys;
+      char   **keys;
+      PetscCall(BwSceneListChildren(scene, opt, &nkeys, &keys));
+      for (PetscInt c = 0; c < nkeys; c++) {
+        PetscBool isbox, isblocks;
+        PetscCall(PetscStrcmp(keys[c], "box", &isbox));
+        PetscCall(PetscStrcmp(keys[c], "blocks", &isblocks));
+        if (!isbox && !isblocks) {
+          char bad[PETSC_MAX_OPTION_NAME + 1];
+          PetscCall(PetscSNPrintf(bad, sizeof(bad), "%s_%s", opt, keys[c]));
+          PetscCall(BwSceneError(scene, bad, "is not a key of a set: a set has box: [x0, y0, x1, y1] or blocks: [b, ...]"));
+        }
+      }
+      PetscCall(PetscStrArrayDestroy(&keys));
+    }
+    if (!hasbox && !hasblocks) PetscCall(BwSceneError(scene, opt, "defines set '%s' by neither box: [x0, y0, x1, y1] nor blocks: [b, ...]", names[k]));
+    set->isbox = hasbox;
+    PetscCall(PetscStrncpy(set->option, hasbox ? optbox : optblocks, sizeof(set->option)));
+    if (hasbox) {
+      if (nbox != 4) PetscCall(BwSceneError(scene, optbox, "must hold 4 numbers x0, y0, x1, y1, got %" PetscInt_FMT, nbox));
+      if (!(box[0] <= box[2] && box[1] <= box[3])) PetscCall(BwSceneError(scene, optbox, "needs x0 <= x1 and y0 <= y1, got [%g, %g, %g, %g]", (double)box[0], (double)box[1], (double)box[2], (double)box[3]));
+      PetscCall(PetscArraycpy(set->box, box, 4));
+      PetscCall(PetscFree(box));
+    } else {
+      if (!set->n) PetscCall(BwSceneError(scene, optblocks, "set '%s' is empty: it lists no block", names[k]));
+      for (PetscInt q = 0; q < set->n; q++)
+        if (set->blocks[q] < 0) PetscCall(BwSceneError(scene, optblocks, "lists block %" PetscInt_FMT " (element %" PetscInt_FMT "): block indices are >= 0", set->blocks[q], q + 1));
+    }
+  }
+  PetscCall(PetscStrArrayDestroy(&names));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The scene's sets, made once the blocks exist: a name the generator or
+ * the file already gave, an empty box, an index past the last block are
+ * errors naming the key. */
+static PetscErrorCode BwGeometryMakeSceneSets(BwGeometry g, BwScene scene)
+{
+  PetscReal lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, tol;
+  PetscInt *found;
+
+  PetscFunctionBeginUser;
+  if (!g->nscenesets) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt b = 0; b < g->nblocks; b++)
+    for (int d = 0; d < 2; d++) {
+      lo[d] = PetscMin(lo[d], g->centroid[2 * b + d]);
+      hi[d] = PetscMax(hi[d], g->centroid[2 * b + d]);
+    }
+  /* a centroid on the box's edge as written (0.3) may be computed a few ulps
+   * outside it (0.30000000000000004): the closed box is widened by round-off */
+  tol = 1e-12 * (PetscAbsReal(hi[0] - lo[0]) + PetscAbsReal(hi[1] - lo[1]) + PetscAbsReal(lo[0]) + PetscAbsReal(lo[1]));
+  PetscCall(PetscMalloc1(g->nblocks, &found));
+  for (PetscInt k = 0; k < g->nscenesets; k++) {
+    struct _n_BwSceneSet *set = &g->scenesets[k];
+    PetscInt              s, nf = 0;
+
+    PetscCall(BwGeometryFindSet(g, set->name, &s));
+    if (s >= 0) {
+      char opt[PETSC_MAX_OPTION_NAME + 1];
+      PetscCall(PetscSNPrintf(opt, sizeof(opt), "-sets_%s", set->name));
+      char have[1024];
+      PetscCall(BwGeometryGetSetNames(g, have, sizeof(have)));
+      PetscCall(BwSceneError(scene, opt, "set '%s' is already a set of the geometry (%s): a scene set needs a name of its own", set->name, have));
+    }
+    if (set->isbox) {
+      const PetscReal *q = set->box;
+      for (PetscInt b = 0; b < g->nblocks; b++) {
+        const PetscReal *c = &g->centroid[2 * b];
+        if (c[0] >= q[0] - tol && c[0] <= q[2] + tol && c[1] >= q[1] - tol && c[1] <= q[3] + tol) found[nf++] = b;
+      }
+      if (!nf) PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g] (centroids span [%g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[2], (double)q[3], (double)lo[0], (double)lo[1], (double)hi[0], (double)hi[1]));
+    } else {
+      for (PetscInt q = 0; q < set->n; q++) {
+        const PetscInt b = set->blocks[q];
+        if (b >= g->nblocks) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " (element %" PetscInt_FMT "), but the geometry has %" PetscInt_FMT " blocks (0 to %" PetscInt_FMT ")", b, q + 1, g->nblocks, g->nblocks - 1));
+        for (PetscInt r = 0; r < q; r++)
+          if (set->blocks[r] == b) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " twice (elements %" PetscInt_FMT " and %" PetscInt_FMT ")", b, r + 1, q + 1));
+        found[nf++] = b;
+      }
+    }
+    PetscCall(BwGeometryAddSet(g, set->name, nf, found));
+  }
+  PetscCall(PetscFree(found));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -241,5 +420,6 @@ PetscErrorCode BwGeometrySetUp(BwGeometry g, BwScene scene, PetscReal thickness)
   PetscFunctionBeginUser;
   PetscCall(g->generator->generate(g->generator, g, scene, thickness));
   PetscCall(BwGeometryComputeCentroids(g));
+  PetscCall(BwGeometryMakeSceneSets(g, scene));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -40,6 +40,10 @@ struct _n_BwGeometry {
   PetscInt  *setoffsets; /* nsets+1 */
   PetscInt  *setblocks;
   BwGenerator generator;
+  /* sets defined in the scene (sets.NAME.box | sets.NAME.blocks), read with
+   * the keys and made once the blocks exist */
+  PetscInt              nscenesets;
+  struct _n_BwSceneSet *scenesets;
   /* bookkeeping while a generator fills the arrays */
   PetscInt nvertices, maxvertices, maxblocks, maxinterfaces, maxsetblocks, maxsets;
 };
@@ -60,7 +64,10 @@ PetscErrorCode BwGeometryCreate(MPI_Comm comm, BwGeometry *geom);
 PetscErrorCode BwGeometryRegister(const char name[], BwGeneratorCreate create);
 /* Reads geometry.generator, geometry.depth and the generator's keys. */
 PetscErrorCode BwGeometrySetFromOptions(BwGeometry geom, BwScene scene);
-/* Runs the generator and derives centroids and areas. */
+/* Reads the scene's sets (sets.NAME.box | blocks); called by
+ * BwGeometrySetFromOptions. */
+PetscErrorCode BwGeometrySceneSetsFromOptions(BwGeometry geom, BwScene scene);
+/* Runs the generator, derives centroids and areas, adds the scene's sets. */
 PetscErrorCode BwGeometrySetUp(BwGeometry geom, BwScene scene, PetscReal thickness);
 PetscErrorCode BwGeometryDestroy(BwGeometry *geom);
 

@@ -95,15 +95,25 @@ static PetscErrorCode BwSchurPCDestroy(PC pc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, PetscBool lu, Mat A)
+PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, BwFactorKind kind, Mat A)
 {
   MatSolverType type;
 
   PetscFunctionBeginUser;
-  PetscCall(PCSetType(pc, lu ? PCLU : PCCHOLESKY));
-  PetscCall(BwFactorPackage(s->comm, lu, &type));
-  PetscCheck(type, s->comm, PETSC_ERR_SUP, "this PETSc has no parallel sparse %s factorisation (it has %s): use solver.schur: gamg, or one rank", lu ? "LU" : "Cholesky", BwFactorPackages());
+  PetscCall(PCSetType(pc, kind == BW_FACTOR_CHOLESKY ? PCCHOLESKY : PCLU));
+  PetscCall(BwFactorPackage(s->comm, kind, &type));
+  PetscCheck(type, s->comm, PETSC_ERR_SUP, "this PETSc has no parallel sparse %s factorisation (it has %s): use solver.schur: gamg, or one rank", kind == BW_FACTOR_CHOLESKY ? "Cholesky" : "LU", BwFactorPackages());
   PetscCall(PCFactorSetMatSolverType(pc, type));
+  {
+    /* PETSc's own factorisation does not pivot: an open joint's zero
+     * stiffness can leave a zero pivot in S^ near a mechanism, where MUMPS
+     * would pivot. A shift of the zero pivots keeps the factor usable as a
+     * preconditioner; the outer iterations (and the true-residual test)
+     * remove what the shift changes. */
+    PetscBool own;
+    PetscCall(PetscStrcmp(type, MATSOLVERPETSC, &own));
+    if (own) PetscCall(PCFactorSetShiftType(pc, MAT_SHIFT_NONZERO));
+  }
   (void)A;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -158,7 +168,7 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
   PetscCall(KSPGetPC(ctx->inner, &ipc));
   if (!iterative) {
     PetscCall(KSPSetType(ctx->inner, KSPPREONLY));
-    PetscCall(BwSolverSetFactor(s, ipc, s->symmetric ? PETSC_FALSE : PETSC_TRUE, S));
+    PetscCall(BwSolverSetFactor(s, ipc, s->symmetric ? BW_FACTOR_CHOLESKY : BW_FACTOR_LU, S));
   } else if (s->schur == BW_SCHUR_HYPRE) {
     PetscCall(KSPSetType(ctx->inner, s->symmetric ? KSPCG : KSPGMRES));
     PetscCall(PCSetType(ipc, PCHYPRE));

@@ -152,7 +152,7 @@ static PetscErrorCode BwSolverCreateDirect(BwSolver s)
   PetscCall(BwSolverOuterKSP(s, "direct_", 5, &s->direct.ksp));
   PetscCall(KSPSetOperators(s->direct.ksp, s->Kaij, s->Kaij));
   PetscCall(KSPGetPC(s->direct.ksp, &pc));
-  PetscCall(BwSolverSetFactor(s, pc, PETSC_TRUE, s->Kaij));
+  PetscCall(BwSolverSetFactor(s, pc, BW_FACTOR_LU_PIVOTING, s->Kaij));
   PetscCall(KSPSetFromOptions(s->direct.ksp));
   PetscCall(BwSolverFactorDefaults(pc));
 #if defined(PETSC_HAVE_MUMPS)
@@ -210,7 +210,13 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
   PetscFunctionBeginUser;
   s->mx = mx;
   PetscCall(BwMixedGetOwnership(mx, &own));
-  if (s->schur == BW_SCHUR_AUTO) s->schur_iterative = own.nblocks >= (s->expected_solves > 1 ? BW_SCHUR_GAMG_BLOCKS : BW_SCHUR_GAMG_BLOCKS_ONE) ? PETSC_TRUE : PETSC_FALSE;
+  if (s->schur == BW_SCHUR_AUTO) {
+    MatSolverType type;
+    /* a PETSc with no sparse factorisation on this many ranks (a cluster's
+     * build without MUMPS) leaves auto the iterative Schur solve */
+    PetscCall(BwFactorPackage(s->comm, s->symmetric ? BW_FACTOR_CHOLESKY : BW_FACTOR_LU, &type));
+    s->schur_iterative = !type || own.nblocks >= (s->expected_solves > 1 ? BW_SCHUR_GAMG_BLOCKS : BW_SCHUR_GAMG_BLOCKS_ONE) ? PETSC_TRUE : PETSC_FALSE;
+  }
   else s->schur_iterative = s->schur == BW_SCHUR_GAMG || s->schur == BW_SCHUR_HYPRE ? PETSC_TRUE : PETSC_FALSE;
   s->direct_fits     = own.nblocks < BW_SCHUR_GAMG_BLOCKS || s->requested == BW_METHOD_DIRECT ? PETSC_TRUE : PETSC_FALSE;
   if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_FIELDSPLIT) PetscCall(BwSolverCreateFieldsplit(s, &s->fieldsplit, NULL, PETSC_FALSE));
@@ -236,7 +242,7 @@ static PetscErrorCode BwSolverCondensed(BwSolver s, Vec b, Vec x, BwLog *log)
     PetscCall(KSPSetOperators(s->condensed.ksp, S, S));
     PetscCall(KSPSetType(s->condensed.ksp, KSPPREONLY));
     PetscCall(KSPGetPC(s->condensed.ksp, &pc));
-    PetscCall(BwSolverSetFactor(s, pc, PETSC_FALSE, S));
+    PetscCall(BwSolverSetFactor(s, pc, BW_FACTOR_CHOLESKY, S));
     PetscCall(KSPSetFromOptions(s->condensed.ksp));
   }
   s->condensed.ran = PETSC_TRUE;
@@ -414,7 +420,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
   if (!ok && s->requested == BW_METHOD_AUTO && s->schur_iterative) {
     char           why[512];
     MatSolverType  type;
-    PetscCall(BwFactorPackage(s->comm, PETSC_FALSE, &type));
+    PetscCall(BwFactorPackage(s->comm, s->symmetric ? BW_FACTOR_CHOLESKY : BW_FACTOR_LU, &type));
     if (type) {
       if (!s->cholesky.ksp) PetscCall(BwSolverCreateFieldsplit(s, &s->cholesky, "cholesky_", PETSC_TRUE));
       s->used       = BW_METHOD_FIELDSPLIT;
@@ -426,9 +432,9 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
   }
   if (!ok && s->requested != BW_METHOD_FIELDSPLIT) {
     MatSolverType type;
-    PetscCall(BwFactorPackage(s->comm, PETSC_TRUE, &type));
+    PetscCall(BwFactorPackage(s->comm, BW_FACTOR_LU_PIVOTING, &type));
     if (!s->direct_fits) PetscCall(PetscStrlcat(reason, "; the direct path was not tried: the saddle matrix of this many blocks does not fit in memory", sizeof(reason)));
-    else if (!type) PetscCall(PetscStrlcat(reason, "; the direct path was not tried: this PETSc has no parallel sparse LU", sizeof(reason)));
+    else if (!type) PetscCall(PetscStrlcat(reason, "; the direct path was not tried: this PETSc has no sparse LU with pivoting on this many ranks", sizeof(reason)));
     else {
       char why[512];
       if (!s->direct.ksp) PetscCall(BwSolverCreateDirect(s));

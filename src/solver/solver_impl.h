@@ -2,6 +2,7 @@
 #pragma once
 #include <petscksp.h>
 #include "solver/solver.h"
+#include "util/factor.h"
 
 /* solver.schur */
 typedef enum { BW_SCHUR_AUTO = 0, BW_SCHUR_CHOLESKY = 1, BW_SCHUR_GAMG = 2, BW_SCHUR_HYPRE = 3 } BwSchurSolve;
@@ -59,7 +60,7 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor);
 PetscErrorCode BwSchurPCGetInner(KSP outer, KSP *inner);
 /* Factor-PC defaults for a Cholesky or LU with the package this PETSc has:
  * null-pivot detection with MUMPS. */
-PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, PetscBool lu, Mat A);
+PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, BwFactorKind kind, Mat A);
 PetscErrorCode BwSolverFactorDefaults(PC pc);
 
 /* estimates.c */

@@ -273,7 +273,7 @@ static PetscErrorCode BwComposeArray(PetscObject obj, const char name[], void *a
   PetscFunctionBeginUser;
   PetscCall(PetscContainerCreate(PetscObjectComm(obj), &c));
   PetscCall(PetscContainerSetPointer(c, array));
-  PetscCall(PetscContainerSetUserDestroy(c, PetscContainerUserDestroyDefault));
+  PetscCall(BwContainerFreeWithIt(c));
   PetscCall(PetscObjectCompose(obj, name, (PetscObject)c));
   PetscCall(PetscContainerDestroy(&c));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -276,7 +276,7 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
   PetscCall(PCSetType(pc, PCCHOLESKY));
   {
     MatSolverType type;
-    PetscCall(BwFactorPackage(mx->comm, PETSC_FALSE, &type));
+    PetscCall(BwFactorPackage(mx->comm, BW_FACTOR_CHOLESKY, &type));
     /* without a parallel Cholesky the check is not made: nothing is said */
     if (!type) {
       PetscCall(KSPDestroy(&ksp));

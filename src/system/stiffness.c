@@ -242,7 +242,11 @@ PetscErrorCode BwMixedRefillS(BwMixed mx)
   PetscCall(BwMatValuesChanged(mx->S));
   /* a non-associated flow (tan psi < tan phi) makes the tangents, and S^, unsymmetric */
   for (PetscInt e = 0; mx->tangent && e < mx->nown_interfaces * mx->m && symmetric; e++) symmetric = (PetscBool)(mx->tangent[4 * e + 1] == mx->tangent[4 * e + 2]);
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &symmetric, 1, MPIU_BOOL, MPI_LAND, mx->comm));
+  {
+    int loc = symmetric ? 1 : 0, all;
+    PetscCallMPI(MPI_Allreduce(&loc, &all, 1, MPI_INT, MPI_LAND, mx->comm));
+    symmetric = all ? PETSC_TRUE : PETSC_FALSE;
+  }
   PetscCall(MatSetOption(mx->S, MAT_SYMMETRIC, symmetric));
   /* SPD only for elastic joints for good: MUMPS picks LL^T or LDL^T once,
    * at the first factorisation, and softening tangents make S^ indefinite */

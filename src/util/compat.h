@@ -11,7 +11,12 @@
 
 /* Context destroy functions take the context's address from 3.23 on
  * (PetscCtxDestroyFn), the context itself before. */
-#if PETSC_VERSION_GE(3, 23, 0)
+#if PETSC_VERSION_GE(3, 24, 0)
+  /* PetscCtxDestroyFn(PetscCtxRt): a void * that holds the context's address */
+  #define BW_CTX_DESTROY_ARG        void *
+  #define BW_CTX_FROM_DESTROY(a)    (*(void **)(a))
+  #define BW_CONVERGED_DESTROY(ctx) KSPConvergedDefaultDestroy(&(ctx))
+#elif PETSC_VERSION_GE(3, 23, 0)
   #define BW_CTX_DESTROY_ARG        void **
   #define BW_CTX_FROM_DESTROY(a)    (*(a))
   #define BW_CONVERGED_DESTROY(ctx) KSPConvergedDefaultDestroy(&(ctx))
@@ -29,6 +34,13 @@ static inline const char *BwErrorText(PetscErrorCode ierr)
   (void)PetscErrorMessage(ierr, NULL, (void *)&specific);
   return specific ? specific : "";
 }
+
+/* A container that frees its pointer with PetscFree when destroyed. */
+#if PETSC_VERSION_GE(3, 23, 0)
+  #define BwContainerFreeWithIt(c) PetscContainerSetCtxDestroy((c), PetscCtxDestroyDefault)
+#else
+  #define BwContainerFreeWithIt(c) PetscContainerSetUserDestroy((c), PetscContainerUserDestroyDefault)
+#endif
 
 /* A matrix's values changed in place (refilled): a new assembly tells
  * whoever built something from them (a factor, a hierarchy) to rebuild it,

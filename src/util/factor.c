@@ -2,9 +2,10 @@
 #include "util/factor.h"
 #include "util/compat.h"
 
-PetscErrorCode BwFactorPackage(MPI_Comm comm, PetscBool lu, MatSolverType *type)
+PetscErrorCode BwFactorPackage(MPI_Comm comm, BwFactorKind kind, MatSolverType *type)
 {
   PetscMPIInt size;
+  PetscBool   lu = kind == BW_FACTOR_CHOLESKY ? PETSC_FALSE : PETSC_TRUE;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -31,6 +32,8 @@ PetscErrorCode BwFactorPackage(MPI_Comm comm, PetscBool lu, MatSolverType *type)
   *type = MATSOLVERSUPERLU;
 #elif defined(PETSC_HAVE_SUITESPARSE)
   *type = MATSOLVERUMFPACK;
+#else
+  if (kind == BW_FACTOR_LU) *type = MATSOLVERPETSC;
 #endif
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -3,15 +3,23 @@
  * complement S^, the whole saddle matrix, the mechanism check). Decided
  * from petscconf.h, so a PETSc without MUMPS (a cluster's own build) still
  * runs, on the paths it can take.
- *   Cholesky, one rank:     MUMPS, else CHOLMOD (SuiteSparse), else PETSc's own
- *   Cholesky, more ranks:   MUMPS, else none
- *   LU, one rank:           MUMPS, else SuperLU, else UMFPACK, else none
- *   LU, more ranks:         MUMPS, else SuperLU_DIST, else none
- * A saddle matrix needs pivoting, which PETSc's own LU does not do.
+ *   Cholesky, one rank:        MUMPS, else CHOLMOD (SuiteSparse), else PETSc's own
+ *   LU of S^, one rank:        MUMPS, else SuperLU, else UMFPACK, else PETSc's own
+ *   LU of a saddle, one rank:  MUMPS, else SuperLU, else UMFPACK, else none
+ *   more ranks:                MUMPS, else SuperLU_DIST for LU, else none
+ * A saddle matrix (zero displacement block) needs pivoting, which PETSc's
+ * own LU does not do; S^ (a tangent stiffness with a positive diagonal
+ * from its elastic or residual stiffness) does not.
  * *type is NULL when there is none. */
 #pragma once
 #include <petscmat.h>
 
-PetscErrorCode BwFactorPackage(MPI_Comm comm, PetscBool lu, MatSolverType *type);
+typedef enum {
+  BW_FACTOR_CHOLESKY,   /* symmetric S^ */
+  BW_FACTOR_LU,         /* non-symmetric S^: no pivoting needed */
+  BW_FACTOR_LU_PIVOTING /* the whole saddle matrix */
+} BwFactorKind;
+
+PetscErrorCode BwFactorPackage(MPI_Comm comm, BwFactorKind kind, MatSolverType *type);
 /* One line naming what this PETSc offers, for messages. */
 const char *BwFactorPackages(void);

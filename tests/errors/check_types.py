@@ -38,6 +38,7 @@ BASE_WALL = [
     (("geometry", "running_bond", "foundation_height"), "0.1"),
     (("geometry", "running_bond", "top_beam"), "true"),
     (("geometry", "running_bond", "top_beam_height"), "0.1"),
+    (("geometry", "running_bond", "split_units"), "false"),
     (("geometry", "running_bond", "openings"), "[]"),
     (("joints", "law"), "mortar"),
     (("joints", "thickness"), "0.01"),
@@ -87,7 +88,8 @@ BASES = {"wall": BASE_WALL, "two": BASE_TWO, "dry": BASE_DRY}
 KEYS = {
     "geometry.depth": ("wall", "real"),
     "geometry.running_bond.courses": ("wall", "int"),
-    "geometry.running_bond.units_per_course": ("wall", "int"),
+    "geometry.running_bond.units_per_course": ("wall", "real"),
+    "geometry.running_bond.split_units": ("wall", "bool"),
     "geometry.running_bond.unit_length": ("wall", "real"),
     "geometry.running_bond.unit_height": ("wall", "real"),
     "geometry.running_bond.foundation": ("wall", "bool"),

@@ -117,9 +117,8 @@ int main(int argc, char **argv)
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   ierr = BwTestMain(PETSC_COMM_WORLD, &scene, &geom);
   if (ierr) {
-    char *specific = NULL;
-    PetscErrorMessage(ierr, NULL, &specific);
-    if (!rank) fprintf(stderr, "test_geometry: error: %s\n", specific ? specific : "unknown");
+    const char *specific = BwErrorText(ierr);
+    if (!rank) fprintf(stderr, "test_geometry: error: %s\n", specific[0] ? specific : "unknown");
     code = ierr == PETSC_ERR_USER_INPUT ? 1 : 2;
   }
   if (BwGeometryDestroy(&geom) || BwSceneDestroy(&scene)) code = code ? code : 3;

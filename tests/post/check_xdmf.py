@@ -14,7 +14,7 @@ references resolve as they do for ParaView. Everything else is read as is.
 Modes:
   two_blocks N  the paper's two blocks on N ranks (block 1 moves: rotation and
                 translation; with N = 2 the blocks' vertex rows come from two ranks)
-  demo          examples/demo.yaml on 2 ranks (a wall of 101 blocks)
+  demo          examples/demo.yaml on 2 ranks (a wall of 92 blocks)
   polygons      a file geometry of a rectangle, a pentagon and a triangle:
                 meshio knows no Polygon in a Mixed topology, so the blocks'
                 connectivity /xdmf/topology is compared with its closed form

@@ -14,7 +14,7 @@
             by every path: the run still writes the best answer, says so on
             stdout (WARNING) and in /solver (accuracy_met 0, warning), and
             that answer equals the normal one to 1e-12
-  wall      on the demo shear wall (101 blocks, 262 interfaces), every path
+  wall      on the demo shear wall (92 blocks), every path
             and storage (fieldsplit with D^ as a shell, on the nest with D^
             assembled, on one AIJ,
             direct, condensed, fieldsplit with CG+GAMG) gives the same

@@ -79,13 +79,12 @@ static PetscErrorCode BwTestLocate(BwScene scene, const char option[], const cha
 /* `ierr` is a user-input error whose message is exactly `expected`. */
 static PetscErrorCode BwTestError(PetscErrorCode ierr, const char expected[])
 {
-  const char *text;
-  char       *message;
+  const char *message;
 
   PetscFunctionBeginUser;
   BwTestCheck(ierr == PETSC_ERR_USER_INPUT, "expected error code %d, got %d, for '%s'", PETSC_ERR_USER_INPUT, (int)ierr, expected);
   if (!ierr) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PetscErrorMessage(ierr, &text, &message));
+  message = BwErrorText(ierr);
   BwTestCheck(!strcmp(message, expected), "error message\n  got:      '%s'\n  expected: '%s'", message, expected);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
