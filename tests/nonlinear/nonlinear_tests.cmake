@@ -1,7 +1,7 @@
 # Nonlinear joints and pushover (ctest -L nonlinear): closed forms and
 # invariants, tests/nonlinear/check_nonlinear.py says each reference and
 # tolerance.
-foreach(case eccentric sliding dilatancy overturning stack_overturn stack_slide collapse softening step_size elastic_limit)
+foreach(case eccentric sliding dilatancy overturning stack_overturn stack_slide collapse softening step_size elastic_limit j4d)
   bw_py_test(nonlinear.${case} nonlinear nonlinear/check_nonlinear.py ${case})
 endforeach()
 bw_py_test(nonlinear.errors "nonlinear;errors" nonlinear/check_nonlinear.py errors)
