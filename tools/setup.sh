@@ -10,9 +10,17 @@ BW_DEBS=(build-essential gfortran cmake ninja-build pkg-config
          petsc-dev libhdf5-openmpi-dev hdf5-tools libmetis-dev libyaml-dev
          openmpi-bin libopenmpi-dev libopenblas0-pthread libblas3 liblapack3 python3 python3-pip)
 
+# For tools/test only (it sets BW_SETUP_TESTS=1): ParaView's pvpython
+# (python3-paraview, which brings paraview) and xvfb, the display its
+# rendering needs, for the ParaView check of the XDMF files
+# (tests/post/check_paraview.py; CMake leaves it out without them). About
+# 200 MB to download and 1.2 GB installed, so tools/demo does not pay for them.
+BW_TEST_DEBS=(python3-paraview xvfb)
+
 bw_install_debs() {
-  local missing=()
-  for p in "${BW_DEBS[@]}"; do
+  local missing=() wanted=("${BW_DEBS[@]}")
+  [ "${BW_SETUP_TESTS:-0}" = 1 ] && wanted+=("${BW_TEST_DEBS[@]}")
+  for p in "${wanted[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   if [ ${#missing[@]} -gt 0 ]; then

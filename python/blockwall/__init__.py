@@ -10,6 +10,7 @@ read and draw its results.
     res = bw.solve("two.yaml", ranks=2)               # run blockwall, read the result
     res.displacement, res.resultant, res.solver["residual"]
     bw.plot_wall(res).figure.savefig("two.png")       # deformed wall, stresses
+    bw.plot_cracks(res, "peak").figure.savefig("cracks.png")  # a pushover's crack pattern
     bw.import_dxf("wall.dxf", "wall.h5", layer_sets=True)   # a drawing -> geometry
 
 Modules: geometry (write/read the HDF5 geometry input), polygon (the
@@ -24,7 +25,8 @@ __version__ = "0.1.0"
 
 _LAZY = {  # need matplotlib or ezdxf: imported on first use
     "plot_wall": "plots", "plot_interface_stress": "plots", "plot_history": "plots", "auto_scale": "plots",
-    "WallPlot": "plots", "StressPlot": "plots", "summary": "summary", "summary_rows": "summary",
+    "plot_cracks": "plots", "peak_step": "plots", "nearest_written_step": "plots", "portion_segments": "plots",
+    "WallPlot": "plots", "StressPlot": "plots", "HistoryPlot": "plots", "CrackPlot": "plots", "summary": "summary", "summary_rows": "summary",
     "import_dxf": "dxf", "DxfError": "dxf",
 }
 

@@ -4,7 +4,7 @@ import argparse
 import os
 import sys
 
-from .plots import COLORS, plot_history, plot_interface_stress, plot_wall
+from .plots import COLORS, plot_cracks, plot_history, plot_interface_stress, plot_wall
 from .results import read
 from .summary import summary
 
@@ -29,7 +29,9 @@ def main(argv=None, prog="tools/plot"):
     p = argparse.ArgumentParser(
         prog=prog,
         description="Draw a blockwall result: the deformed wall (STEM_wall.png) and the normal and shear "
-                    "stress diagrams along interfaces (STEM_stress_K.png); print the file's attributes.")
+                    "stress diagrams along interfaces (STEM_stress_K.png); for a pushover also the capacity "
+                    "curve (STEM_history.png) and the crack pattern at the peak and at the end "
+                    "(STEM_cracks_peak.png, STEM_cracks_end.png); print the file's attributes.")
     p.add_argument("file", help="HDF5 result file written by blockwall")
     p.add_argument("--outdir", help="directory for the PNGs (default: beside the file)")
     p.add_argument("--color", choices=list(COLORS), default="umag", help="block colour (default: umag)")
@@ -60,6 +62,15 @@ def main(argv=None, prog="tools/plot"):
         path = os.path.join(outdir, f"{stem}_history.png")
         plot_history(res).figure.savefig(path, dpi=args.dpi)
         print(f"pushover history (load factor against the monitor dof): {path}")
+        if res.state is None:
+            print("no crack pattern: the file has no /interfaces/state")
+        for at in ("peak", "end") if res.state is not None else ():
+            cracks = plot_cracks(res, at)
+            path = os.path.join(outdir, f"{stem}_cracks_{at}.png")
+            cracks.figure.savefig(path, dpi=args.dpi)
+            which = (f"step {cracks.step}, the written step nearest to the peak, step {cracks.requested}" if cracks.nearest
+                     else f"step {cracks.step}")
+            print(f"crack pattern at the {at} ({which}): {path}")
     if res.stress is None:
         print("no stress diagrams: the file has no /interfaces/stress (output.stresses false)")
         return 0

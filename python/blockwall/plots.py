@@ -12,7 +12,13 @@ size, rounded to one significant digit so the title states a plain number.
 
 Stresses: the model's stresses are constant on each of the m equal portions
 of an interface, so the diagram is a step function over the portions,
-x measured along t from the interface's centre G (the model's x_p)."""
+x measured along t from the interface's centre G (the model's x_p).
+
+Crack pattern (a pushover's, or any result with joint strength): every
+portion of every interface drawn as its own segment of the undeformed joint
+line, coloured by its state in /interfaces/state, at the end or at the
+peak of the capacity curve (the written step nearest to it if the peak's
+was not written)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -203,3 +209,134 @@ def plot_history(res):
     stop = res.solver.get("stop_reason", "")
     ax.set_title(f"{res.title or 'blockwall'}: pushover, {len(lam)} steps" + (f"\n{stop}" if stop else ""))
     return HistoryPlot(fig, ax, mon, lam)
+
+
+# The states of /interfaces/state: value -> (name in the legend, colour,
+# line width). Elastic portions are drawn thin and light so that the
+# cracks (open, sliding, both) stand out on them.
+STATES = {0: ("elastic", "0.82", 0.6),
+          1: ("open", "tab:red", 2.5),
+          2: ("sliding", "tab:blue", 2.5),
+          3: ("open and sliding", "tab:purple", 2.5)}
+
+
+@dataclass
+class CrackPlot:
+    figure: Figure
+    ax: object                      # the wall
+    ax_history: object              # the capacity curve beside it, the step drawn marked (None without /history)
+    at: str                         # "end", "peak" or "step"
+    requested: int | None           # the step asked for (the peak's); None: the file's final state
+    step: int | None                # the step drawn; None only for a file without /history
+    nearest: bool                   # True: `requested` was not written, the nearest written step was drawn
+    state: np.ndarray               # (I, m) the states drawn
+    segments: np.ndarray            # (I, m, 2, 2) each portion's ends on the undeformed joint line
+    counts: np.ndarray              # (4,) portions drawn in each state 0..3
+    lines: dict                     # state -> the LineCollection of its portions
+    load_factor: float | None       # lambda of the step drawn (None without /history)
+    monitor: float | None           # the monitor dof at the step drawn
+
+
+def portion_segments(res):
+    """(I, m, 2, 2): the ends of the m equal portions of every interface,
+    G + x t for x from -l/2 to l/2 (results.portion_edges), on the
+    undeformed joint line (results.interface_ends)."""
+    if not res.ninterfaces:
+        return np.zeros((0, res.m, 2, 2))
+    edges = np.stack([res.portion_edges(k) for k in range(res.ninterfaces)])     # (I, m+1)
+    points = res.center[:, None, :] + edges[:, :, None] * res.tangent()[:, None, :]  # (I, m+1, 2)
+    return np.stack([points[:, :-1], points[:, 1:]], axis=2)
+
+
+def peak_step(res):
+    """The step of /history with the largest load factor (the first of
+    equals). /solver peak_load_factor is that value."""
+    if not res.history or "load_factor" not in res.history:
+        raise ValueError(f"{res.path} has no /history (not a pushover result): no peak to draw")
+    return int(np.argmax(res.history["load_factor"]))
+
+
+def nearest_written_step(res, step):
+    """The written step (/steps/NNNNNN with interfaces/state) nearest to
+    `step`; of two equally near, the later one (it has been through the
+    state asked for, not short of it)."""
+    written = [s for s, st in res.steps.items() if st.state is not None]
+    if not written:
+        raise ValueError(f"{res.path} has no /steps/NNNNNN/interfaces/state (output.steps wrote none)")
+    return min(written, key=lambda s: (abs(s - step), -s))
+
+
+def plot_cracks(res, at="end"):
+    """The crack pattern: the wall's blocks (undeformed outline) and every
+    portion of every interface as a segment along the joint, coloured by
+    its state (0 elastic, 1 open, 2 sliding, 3 both); the legend counts
+    the portions in each state. `at`: "end" (the top-level
+    /interfaces/state, the last converged step), "peak" (the step of
+    largest load factor, or the written step nearest to it), or a step
+    number (that written step, or the nearest one). Beside it, for a
+    pushover, the capacity curve with the step drawn marked."""
+    if res.state is None:
+        raise ValueError(f"{res.path} has no /interfaces/state (joints without strength): no crack pattern")
+    history = res.history if res.history and "load_factor" in res.history and "monitor" in res.history else None
+    last = len(history["load_factor"]) - 1 if history else None
+    if at == "end":
+        requested, step, state = last, last, np.asarray(res.state)
+    else:
+        if isinstance(at, str) and at != "peak":
+            raise ValueError(f"at must be 'end', 'peak' or a step number, got {at!r}")
+        requested = peak_step(res) if at == "peak" else int(at)
+        step = nearest_written_step(res, requested)
+        state = np.asarray(res.steps[step].state)
+    kind = at if isinstance(at, str) else "step"
+    state = state.reshape(res.ninterfaces, res.m)
+    segments = portion_segments(res)
+    counts = np.bincount(state.ravel().astype(np.int64), minlength=len(STATES))
+    if len(counts) > len(STATES):
+        raise ValueError(f"{res.path}: interface state {len(counts) - 1} is none of 0..{len(STATES) - 1}")
+
+    lo, hi = res.vertices.min(axis=0), res.vertices.max(axis=0)
+    aspect = (hi[1] - lo[1]) / max(hi[0] - lo[0], 1e-300)
+    fig = _canvas((13 if history else 10, float(np.clip(6.5 * aspect, 3.5, 12)) + 1.2), layout="compressed")
+    if history:
+        ax, ax_h = fig.subplots(1, 2, width_ratios=[3, 1.3])
+    else:
+        ax, ax_h = fig.add_subplot(), None
+    ax.add_collection(PolyCollection(res.polygons(), facecolors="0.97", edgecolors="0.35", linewidths=0.5))
+    lines = {}
+    for s, (name, colour, width) in STATES.items():
+        mask = state == s
+        # elastic first, so that a crack is never hidden under a grey segment
+        lines[s] = LineCollection(segments[mask], colors=colour, linewidths=width, zorder=2 + (s > 0),
+                                  capstyle="butt", label=f"{name}: {counts[s]}")
+        ax.add_collection(lines[s])
+    ax.legend(handles=[lines[s] for s in STATES], loc="upper left", bbox_to_anchor=(1.0, 1.0),
+              fontsize="small", title=f"portions ({state.size})", title_fontsize="small")
+    ax.autoscale_view()
+    ax.set_aspect("equal")
+    ax.set_xlabel("x1 [m]")
+    ax.set_ylabel("x2 [m]")
+
+    lam = mon = None
+    if history:
+        lam, mon = float(history["load_factor"][step]), float(history["monitor"][step])
+        ax_h.plot(history["monitor"], history["load_factor"], "-", color="0.5", linewidth=1)
+        p = peak_step(res)
+        ax_h.plot(history["monitor"][p], history["load_factor"][p], "o", markersize=12, markerfacecolor="none",
+                  markeredgecolor="k", label=f"peak, step {p}")
+        ax_h.plot(mon, lam, "o", color="tab:red", markersize=6, label=f"drawn, step {step}")
+        ax_h.set_xlabel("monitor dof [m or rad]")
+        ax_h.set_ylabel("load factor λ")
+        ax_h.grid(True, alpha=0.3)
+        ax_h.legend(loc="best", fontsize="small")
+
+    nearest = requested is not None and step != requested
+    where = {"end": "at the end", "peak": "at the peak", "step": f"at step {requested}"}[kind]
+    if step is None:
+        what = "final state"
+    elif nearest:
+        what = (f"step {step}, the written step nearest to step {requested}" +
+                (" (the peak)" if kind == "peak" else "") + f"; λ = {lam:.6g}")
+    else:
+        what = f"step {step}, λ = {lam:.6g}"
+    ax.set_title(f"{res.title or 'blockwall'}: crack pattern {where}\n{what}")
+    return CrackPlot(fig, ax, ax_h, kind, requested, step, nearest, state, segments, counts, lines, lam, mon)

@@ -13,8 +13,22 @@ N, l = 0.2 m, s = 0.1 m) the shear diagram is also checked against the
 closed form F1/(l s) = 50 kPa on every portion (check_paper.py), i.e. the
 paper's Fig. 8 drawn right.
 
-Modes: case2 (one rank, default options), demo (examples/demo.yaml on 2
-ranks, --color w --scale 500 --interfaces 0,5,7)."""
+A pushover (a 4-course running-bond wall with softening mortar joints
+pushed past its peak under displacement control, every step written):
+the capacity curve drawn is /history/monitor against /history/load_factor,
+exactly; the crack pattern at the end is the top-level /interfaces/state
+(its counts per state np.bincount of it, each portion a segment of its
+joint line G + x t over the m equal portions of [-l/2, l/2], in the
+colour of its state), the one at the peak that of /steps/NNNNNN of the
+step of largest /history/load_factor, which is /solver peak_load_factor;
+the run again writing every (p+1)-th step only, p the peak step, so that
+the peak's state is not in the file: the step drawn is the written one
+nearest to p (the later of two as near) and the title says so.
+
+Modes: case2 (one rank, default options; a linear result: no history, no
+crack pattern, and the functions that need them refuse it), demo
+(examples/demo.yaml on 2 ranks, --color w --scale 500 --interfaces 0,5,7),
+pushover."""
 import os
 import subprocess
 import sys
@@ -33,6 +47,23 @@ from matplotlib.image import imread  # noqa: E402
 
 TWO_BLOCKS = os.path.join(HERE, "..", "paper", "two_blocks.yaml")
 DEMO = os.path.join(TOOLS, "..", "examples", "demo.yaml")
+# Small enough to run in a fraction of a second, big enough to crack: bed
+# and head joints of softening mortar, pushed at the top beam to 1.5 mm.
+PUSHOVER = """title: pushover for the crack pattern
+geometry:
+  generator: running_bond
+  depth: 0.1
+  running_bond: {courses: 4, units_per_course: 3, unit_length: 0.21, unit_height: 0.052, foundation: true, top_beam: true}
+joints: {law: dry, kn: 82.0e9, kt: 36.0e9, thickness: 0.01, strength: {tension: 0.25e6, cohesion: 0.35e6, friction: 0.75, tension_energy: 18, shear_energy: 125}}
+discretization: {m: 8}
+supports: {foundation: {u1: 0, u2: 0, w: 0}, top_beam: {w: 0}}
+loads: {top_beam: [0, -25000, 0]}
+analysis:
+  type: pushover
+  pushover: {loads: {top_beam: [1, 0, 0]}, control: displacement, monitor: {set: top_beam, dof: u1}, target: 1.5e-3, steps: 15}
+output: {stresses: true, xdmf: false, steps: all}
+"""
+STATE_NAMES = {0: "elastic", 1: "open", 2: "sliding", 3: "open and sliding"}
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
@@ -110,6 +141,131 @@ def check_wall(res, f, scale=None, color="umag"):
     return wp
 
 
+def check_history(res, f):
+    """The capacity curve holds and draws /history exactly."""
+    hp = post.plot_history(res)
+    mon, lam = f["history/monitor"][()], f["history/load_factor"][()]
+    expect(np.array_equal(hp.monitor, mon) and np.array_equal(hp.load_factor, lam),
+           f"capacity curve holds {hp.monitor}, {hp.load_factor}; /history {mon}, {lam}")
+    line = hp.ax.lines[0]
+    expect(np.array_equal(line.get_xdata(), mon) and np.array_equal(line.get_ydata(), lam),
+           "the curve drawn is not /history/monitor against /history/load_factor")
+
+
+def portion_ends(f):
+    """(I, m, 2, 2) from the datasets: portion p of interface k runs from
+    G + x_p t to G + x_(p+1) t, x_p = -l/2 + p l/m, t = (cos θ, sin θ)."""
+    G, theta, l = f["interfaces/center"][()], f["interfaces/angle"][()], f["interfaces/length"][()]
+    m = f.attrs["m"]
+    t = np.column_stack([np.cos(theta), np.sin(theta)])
+    x = -l[:, None] / 2 + l[:, None] * np.arange(m + 1)[None, :] / m
+    pts = G[:, None, :] + x[:, :, None] * t[:, None, :]
+    return np.stack([pts[:, :-1], pts[:, 1:]], axis=2)
+
+
+def check_cracks(res, f, at, state, step):
+    """The crack pattern drawn `at` ("peak", "end") is `state` (the file's
+    dataset of step `step`): counts, legend, every portion where it is, in
+    the colour of its state."""
+    cp = post.plot_cracks(res, at)
+    expect(cp.step == step, f"{at}: step {cp.step} drawn, expected {step}")
+    expect(np.array_equal(cp.state, state), f"{at}: the states drawn are not those of step {step}")
+    want = np.bincount(state.ravel().astype(np.int64), minlength=4)
+    expect(np.array_equal(cp.counts, want), f"{at}: counts {cp.counts}, np.bincount of the file's state {want}")
+    legend = [t.get_text() for t in cp.ax.get_legend().get_texts()]
+    expect(legend == [f"{STATE_NAMES[s]}: {want[s]}" for s in range(4)], f"{at}: legend {legend}, counts {want}")
+    ends = portion_ends(f)
+    size = np.max(np.abs(f["blocks/vertices"][()]))
+    for s in range(4):
+        drawn = np.asarray(cp.lines[s].get_segments()).reshape(-1, 2, 2)
+        expect(len(drawn) == want[s], f"{at}: {len(drawn)} segments drawn in state {s}, the file has {want[s]}")
+        expect(np.allclose(drawn, ends[state == s], rtol=0, atol=1e-14 * size),
+               f"{at}: the state-{s} segments are not the portions of the joints in that state")
+    # red open, blue sliding, purple both: the dominant channels of each colour
+    (r1, g1, b1), (r2, g2, b2), (r3, g3, b3) = (cp.lines[s].get_colors()[0][:3] for s in (1, 2, 3))
+    expect(r1 > max(g1, b1) and b2 > max(r2, g2) and min(r3, b3) > g3, "the states' colours are not red, blue, purple")
+    expect(f"step {step}" in cp.ax.get_title(), f"{at}: the title does not name step {step}: {cp.ax.get_title()!r}")
+    return cp
+
+
+def pushover(tmp):
+    scene = os.path.join(tmp, "pushover.yaml")
+    with open(scene, "w") as fh:
+        fh.write(PUSHOVER)
+    out, png = os.path.join(tmp, "push.h5"), os.path.join(tmp, "png")
+    run(scene, ["-output_file", out])
+    stdout = plot_command(out, png)
+    res = post.load(out)
+    with h5py.File(out, "r") as f:
+        lam = f["history/load_factor"][()]
+        n = len(f["interfaces/length"])
+        shown = range(n if n <= 8 else 4)  # tools/plot's default choice of stress diagrams
+        want_png = ["push_wall.png", "push_history.png", "push_cracks_peak.png", "push_cracks_end.png",
+                    *(f"push_stress_{k}.png" for k in shown)]
+        expect(sorted(os.listdir(png)) == sorted(want_png), f"PNGs written: {sorted(os.listdir(png))}")
+        for name in want_png:
+            png_ok(os.path.join(png, name))
+        check_history(res, f)
+        peak, last = int(np.argmax(lam)), len(lam) - 1
+        expect(lam[peak] == f["solver"].attrs["peak_load_factor"],
+               f"largest load factor {lam[peak]!r} of /history is not peak_load_factor {f['solver'].attrs['peak_load_factor']!r}")
+        expect(0 < peak < last and lam[last] < lam[peak], f"the wall is not pushed past its peak: λ {lam}")
+        written = sorted(int(k) for k in f["steps"])
+        expect(written == list(range(last + 1)), f"output.steps all wrote steps {written} of 0..{last}")
+        cp = check_cracks(res, f, "peak", f[f"steps/{peak:06d}/interfaces/state"][()], peak)
+        expect(cp.requested == peak and not cp.nearest and "nearest" not in cp.ax.get_title(),
+               f"the peak's own step {peak} was written, yet {cp.step} drawn as the nearest")
+        end_state = f["interfaces/state"][()]
+        expect(np.array_equal(end_state, f[f"steps/{last:06d}/interfaces/state"][()]),
+               "the top-level state is not the last step's")
+        cp = check_cracks(res, f, "end", end_state, last)
+        expect(cp.counts[1:].sum() > 0, f"nothing cracked past the peak: counts {cp.counts}")
+        expect(cp.load_factor == lam[last] and cp.monitor == f["history/monitor"][last], "end: λ and monitor marked")
+    for at, step in (("peak", peak), ("end", last)):
+        line = f"crack pattern at the {at} (step {step}): {os.path.join(png, f'push_cracks_{at}.png')}"
+        expect(line in stdout, f"tools/plot did not print {line!r}:\n{stdout}")
+
+    # the peak's step not written: the nearest written one is drawn, and said to be
+    every = peak + 1
+    out2, png2 = os.path.join(tmp, "every.h5"), os.path.join(tmp, "png2")
+    run(scene, ["-output_file", out2, "-output_steps", f"every_{every}"])
+    stdout = plot_command(out2, png2)
+    res = post.load(out2)
+    with h5py.File(out2, "r") as f:
+        expect(np.array_equal(f["history/load_factor"][()], lam), "every_N changed the analysis")
+        check_history(res, f)
+        written = sorted(int(k) for k in f["steps"])
+        expect(peak not in written, f"every_{every} wrote the peak step {peak}: {written}")
+        near = min(written, key=lambda s: (abs(s - peak), -s))
+        cp = check_cracks(res, f, "peak", f[f"steps/{near:06d}/interfaces/state"][()], near)
+        expect(cp.nearest and cp.requested == peak and f"nearest to step {peak}" in cp.ax.get_title(),
+               f"the title does not say step {near} is the nearest to the peak {peak}: {cp.ax.get_title()!r}")
+        end = check_cracks(res, f, "end", f["interfaces/state"][()], last)
+        line = (f"crack pattern at the peak (step {near}, the written step nearest to the peak, step {peak}): "
+                f"{os.path.join(png2, 'every_cracks_peak.png')}")
+        expect(line in stdout, f"tools/plot did not print {line!r}:\n{stdout}")
+    for name in ("every_cracks_peak.png", "every_cracks_end.png"):
+        png_ok(os.path.join(png2, name))
+    print(f"pushover: {last + 1} steps, peak λ = {lam[peak]:.6g} at step {peak}; cracks at the peak "
+          f"{np.bincount(res.steps[near].state.ravel(), minlength=4)} (every_{every}: step {near}), "
+          f"at the end {end.counts}")
+
+
+def linear_refused(res, stdout):
+    """A linear result without strength: no capacity curve, no crack
+    pattern, and the functions say why."""
+    expect("pushover history" not in stdout and "crack pattern" not in stdout,
+           f"tools/plot drew a pushover's pictures for a linear result:\n{stdout}")
+    for call, words in ((lambda: post.plot_history(res), "/history"), (lambda: post.peak_step(res), "/history"),
+                        (lambda: post.plot_cracks(res, "end"), "/interfaces/state"),
+                        (lambda: post.plot_cracks(res, "peak"), "/interfaces/state")):
+        try:
+            call()
+            raise Failure(f"a linear result drawn without {words}")
+        except ValueError as e:
+            expect(words in str(e), f"the error does not name {words}: {e}")
+
+
 def plot_command(h5file, outdir, args=()):
     p = subprocess.run([sys.executable, os.path.join(TOOLS, "plot"), h5file, "--outdir", outdir, *args],
                        capture_output=True, text=True, env=ENV, timeout=600)
@@ -119,6 +275,9 @@ def plot_command(h5file, outdir, args=()):
 
 def main(mode):
     with tempfile.TemporaryDirectory() as tmp:
+        if mode == "pushover":
+            pushover(tmp)
+            return
         out, png = os.path.join(tmp, "result.h5"), os.path.join(tmp, "png")
         if mode == "case2":
             run(TWO_BLOCKS, ["-output_file", out])
@@ -148,6 +307,7 @@ def main(mode):
                 shear = sp.lines["shear"].get_ydata()
                 expect(np.max(np.abs(shear - f1 / (l * s))) <= 1e-10 * f1 / (l * s),
                        f"case 2 shear diagram {shear[::2]} is not F1/(l s) = {f1 / (l * s)}")
+                linear_refused(res, stdout)
     print(f"{mode}: PNGs, summary and plotted numbers match the HDF5 file")
 
 

@@ -12,7 +12,7 @@
   reader     a two-block result read into Results: every field equal to the
              HDF5 dataset read with h5py; the pushover additions (/history,
              /steps/NNNNNN, /interfaces/state, /interfaces/plastic_jump)
-             read when present (added here to a copy) and None / {} when
+             read when present (and drawn: plot_history, plot_cracks) (added here to a copy) and None / {} when
              absent; a geometry file is "not a blockwall result file"
   launcher   the command for 1 rank is blockwall alone, for 3 ranks mpiexec
              -n 3 with --oversubscribe (Open MPI); the environment carries
@@ -157,6 +157,12 @@ def reader():
         hp = bw.plot_history(p)
         expect(np.array_equal(hp.load_factor, hist["load_factor"]) and np.array_equal(hp.monitor, hist["monitor"]),
                "plot_history drew other numbers")
+        # the crack pattern: the peak (λ largest at step 3, written) and the end, counted as stored
+        for at, want in (("peak", step["interfaces/state"]), ("end", state)):
+            cp = bw.plot_cracks(p, at)
+            expect(cp.step == 3 and np.array_equal(cp.state, want)
+                   and np.array_equal(cp.counts, np.bincount(want.ravel(), minlength=4)),
+                   f"plot_cracks {at}: step {cp.step}, counts {cp.counts}")
         expect(p.solver["stop_reason"] == "target reached", "new /solver attributes")
         geo = os.path.join(tmp, "g.h5")
         bw.write_geometry(geo, [SQUARE])
