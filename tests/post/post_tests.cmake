@@ -23,6 +23,8 @@ if(BW_PVPYTHON AND BW_XVFB_RUN)
   foreach(mode pushover linear)
     bw_py_test(post.paraview.${mode} "post;paraview" post/check_paraview.py ${mode})
     set_property(TEST post.paraview.${mode} APPEND PROPERTY ENVIRONMENT "BW_PVPYTHON=${BW_PVPYTHON};BW_XVFB_RUN=${BW_XVFB_RUN}")
+    # two `xvfb-run -a` starting together can race for a display number
+    set_tests_properties(post.paraview.${mode} PROPERTIES RESOURCE_LOCK xvfb)
   endforeach()
   message(STATUS "blockwall: ParaView check of the XDMF files with ${BW_PVPYTHON} under ${BW_XVFB_RUN}")
 else()
