@@ -26,7 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
 import blockwall as bw  # noqa: E402
-from speed import machine  # noqa: E402
+from machine import machine  # noqa: E402
 
 LARGE = """title: 1e4-block running-bond wall pushover
 geometry:

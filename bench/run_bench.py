@@ -13,13 +13,13 @@ usage: bench/run_bench.py [--sizes 1e3,1e4,1e5] [--ranks 1,2] [--out bench/resul
 import argparse
 import datetime
 import os
-import platform
-import re
 import resource
 import subprocess
 import tempfile
 
 import h5py
+
+from machine import machine
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXE = os.path.join(ROOT, "build", "bin", "blockwall")
@@ -54,18 +54,6 @@ def run(blocks, ranks, method, extra=()):
             s = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["solver"].attrs.items()}
             s["blocks"] = len(f["blocks/offsets"]) - 1
         return s
-
-
-def machine():
-    cpu = "unknown"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = re.search(r"model name\s*:\s*(.*)", f.read()).group(1)
-    except Exception:
-        pass
-    mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
-    load = open("/proc/loadavg").read().split()[0]
-    return f"{cpu}, {os.cpu_count()} cores, {mem:.0f} GiB, {platform.system()} {platform.release()}; load average {load} at start"
 
 
 def main():

@@ -24,8 +24,6 @@ import argparse
 import datetime
 import math
 import os
-import platform
-import re
 import statistics
 import subprocess
 import sys
@@ -35,6 +33,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 import blockwall as bw  # noqa: E402
+from machine import machine  # noqa: E402
 
 SCENE = os.path.join(ROOT, "examples", "large_wall.yaml")
 SCIPY = os.path.join(ROOT, "bench", "scipy_reference", "wall_scipy.py")
@@ -175,18 +174,6 @@ def part_scale(reps, sizes, ranks_list, log):
             (t0, n0), (t1, n1) = med[(lo, ranks)], med[(hi, ranks)]
             rows.append(f"Growth {n0} → {n1} blocks on {ranks} rank(s): time ∝ N^{math.log(t1 / t0) / math.log(n1 / n0):.2f}.")
     return rows, med
-
-
-def machine():
-    cpu = "unknown"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = re.search(r"model name\s*:\s*(.*)", f.read()).group(1)
-    except Exception:
-        pass
-    mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
-    load = open("/proc/loadavg").read().split()[0]
-    return f"{cpu}, {os.cpu_count()} cores, {mem:.0f} GiB, {platform.system()} {platform.release()}; load average {load} at start"
 
 
 def main():

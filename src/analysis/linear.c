@@ -27,40 +27,6 @@ typedef struct {
   char   **cases; /* NULL: one case, the scene's loads */
 } BwLinear;
 
-/* Case names: the file's mapping cases, and cases given on the command
- * line only (-cases_NAME_loads_SET, -cases_NAME_gravity_density). */
-static PetscErrorCode BwLinearCaseNames(BwScene scene, PetscInt *n, char ***names)
-{
-  PetscInt nfile, nopt, count;
-  char   **file, **opts, **all;
-
-  PetscFunctionBeginUser;
-  PetscCall(BwSceneListChildren(scene, "-cases", &nfile, &file));
-  PetscCall(BwSceneListOptions(scene, "cases_", &nopt, &opts));
-  PetscCall(PetscMalloc1(nfile + nopt + 1, &all));
-  for (count = 0; count < nfile; count++) all[count] = file[count];
-  for (PetscInt o = 0; o < nopt; o++) {
-    const char *rest = opts[o] + strlen("cases_"), *cut = strstr(rest, "_loads_");
-    char        name[PETSC_MAX_OPTION_NAME];
-    PetscBool   known = PETSC_FALSE;
-    if (!cut) cut = strstr(rest, "_gravity_");
-    if (!cut || cut == rest) {
-      char opt[PETSC_MAX_OPTION_NAME + 1];
-      PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", opts[o]));
-      PetscCall(BwSceneError(scene, opt, "does not name a case's loads or gravity (cases.NAME.loads.SET, cases.NAME.gravity.density)"));
-    }
-    PetscCall(PetscSNPrintf(name, sizeof(name), "%.*s", (int)(cut - rest), rest));
-    for (PetscInt c = 0; c < count && !known; c++) PetscCall(PetscStrcmp(all[c], name, &known));
-    if (!known) PetscCall(PetscStrallocpy(name, &all[count++]));
-  }
-  all[count] = NULL;
-  PetscCall(PetscFree(file)); /* the names moved to all */
-  PetscCall(PetscStrArrayDestroy(&opts));
-  *n     = count;
-  *names = all;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 static PetscErrorCode BwLinearSetFromOptions(BwAnalysis a, BwProblem *p)
 {
   BwLinear *lin = (BwLinear *)a->data;
@@ -69,7 +35,10 @@ static PetscErrorCode BwLinearSetFromOptions(BwAnalysis a, BwProblem *p)
   PetscCall(BwAnalysisSolverForJoints(p));
   PetscCall(BwSceneHelpSection(p->scene, "Load cases (scene key cases.NAME.loads.<set>, cases.NAME.gravity.density)"));
   PetscCall(BwSceneRequireMapping(p->scene, "-cases", "NAME: {loads: {set: [F1, F2, M3]}, gravity: {density: ...}}"));
-  PetscCall(BwLinearCaseNames(p->scene, &lin->ncases, &lin->cases));
+  {
+    const char *const keys[] = {"loads", "gravity"};
+    PetscCall(BwSceneListEntries(p->scene, "cases", 2, keys, "does not name a case's loads or gravity (cases.NAME.loads.SET, cases.NAME.gravity.density)", &lin->ncases, &lin->cases));
+  }
   if (!lin->ncases) {
     PetscCall(PetscFree(lin->cases));
     PetscFunctionReturn(PETSC_SUCCESS);

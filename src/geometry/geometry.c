@@ -3,7 +3,6 @@
  *   A = 1/2 sum (x_k y_k+1 - x_k+1 y_k),  c = 1/(6A) sum (p_k + p_k+1)(x_k y_k+1 - x_k+1 y_k).
  * Vertices are shifted by the polygon's first vertex before the sums so that
  * an assembly far from the origin keeps its digits. */
-#include <string.h>
 #include "geometry/geometry.h"
 #include "util/compat.h"
 
@@ -253,52 +252,6 @@ PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Names of the scene's sets: the file's mapping `sets`, and sets given on
- * the command line only (-sets_NAME_box, -sets_NAME_blocks). */
-static PetscErrorCode BwGeometrySceneSetNames(BwScene scene, PetscInt *n, char ***names)
-{
-  PetscInt nfile, nopt, count;
-  char   **file, **opts, **all;
-
-  PetscFunctionBeginUser;
-  PetscCall(BwSceneListChildren(scene, "-sets", &nfile, &file));
-  PetscCall(BwSceneListOptions(scene, "sets_", &nopt, &opts));
-  PetscCall(PetscMalloc1(nfile + nopt + 1, &all));
-  for (count = 0; count < nfile; count++) all[count] = file[count];
-  for (PetscInt o = 0; o < nopt; o++) {
-    const char *rest = opts[o] + strlen("sets_");
-    size_t      len  = strlen(rest), cut = 0;
-    char        name[PETSC_MAX_OPTION_NAME];
-    PetscBool   known = PETSC_FALSE;
-    if (len > 4 && !strcmp(rest + len - 4, "_box")) cut = len - 4;
-    else if (len > 7 && !strcmp(rest + len - 7, "_blocks")) cut = len - 7;
-    if (!cut) {
-      /* a file's set with a misspelt key is caught as an unused key, with
-       * the nearest name; only a command-line set without a kind is here */
-      PetscBool infile = PETSC_FALSE;
-      for (PetscInt c = 0; c < nfile && !infile; c++) {
-        size_t l = strlen(all[c]);
-        infile   = !strncmp(rest, all[c], l) && rest[l] == '_' ? PETSC_TRUE : PETSC_FALSE;
-      }
-      if (infile) continue;
-      {
-        char opt[PETSC_MAX_OPTION_NAME + 1];
-        PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", opts[o]));
-        PetscCall(BwSceneError(scene, opt, "is not a set definition: a set is a mapping {box: [x0, y0, x1, y1]} or {blocks: [b, ...]}"));
-      }
-    }
-    PetscCall(PetscSNPrintf(name, sizeof(name), "%.*s", (int)cut, rest));
-    for (PetscInt c = 0; c < count && !known; c++) PetscCall(PetscStrcmp(all[c], name, &known));
-    if (!known) PetscCall(PetscStrallocpy(name, &all[count++]));
-  }
-  all[count] = NULL;
-  PetscCall(PetscFree(file)); /* the names moved to all */
-  PetscCall(PetscStrArrayDestroy(&opts));
-  *n     = count;
-  *names = all;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 /* Reads sets.NAME.{box | blocks}, checked now, before any work; the blocks
  * are found once the geometry exists (BwGeometryMakeSceneSets). */
 PetscErrorCode BwGeometrySceneSetsFromOptions(BwGeometry g, BwScene scene)
@@ -309,7 +262,10 @@ PetscErrorCode BwGeometrySceneSetsFromOptions(BwGeometry g, BwScene scene)
   PetscFunctionBeginUser;
   PetscCall(BwSceneHelpSection(scene, "Sets defined in the scene (scene key sets.NAME.box: [x0, y0, x1, y1] (blocks whose centroid lies in the closed box) or sets.NAME.blocks: [b, ...])"));
   PetscCall(BwSceneRequireMapping(scene, "-sets", "NAME: {box: [x0, y0, x1, y1]} or NAME: {blocks: [b, ...]}"));
-  PetscCall(BwGeometrySceneSetNames(scene, &n, &names));
+  {
+    const char *const kinds[] = {"box", "blocks"};
+    PetscCall(BwSceneListEntries(scene, "sets", 2, kinds, "is not a set definition: a set is a mapping {box: [x0, y0, x1, y1]} or {blocks: [b, ...]}", &n, &names));
+  }
   PetscCall(PetscCalloc1(n, &g->scenesets));
   g->nscenesets = n;
   for (PetscInt k = 0; k < n; k++) {
@@ -401,13 +357,19 @@ static PetscErrorCode BwGeometryMakeSceneSets(BwGeometry g, BwScene scene)
       }
       if (!nf) PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g] (centroids span [%g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[2], (double)q[3], (double)lo[0], (double)lo[1], (double)hi[0], (double)hi[1]));
     } else {
+      /* where each block was listed first (-1: not yet): linear in the
+       * list, however long */
+      PetscInt *first;
+      PetscCall(PetscMalloc1(g->nblocks, &first));
+      for (PetscInt b = 0; b < g->nblocks; b++) first[b] = -1;
       for (PetscInt q = 0; q < set->n; q++) {
         const PetscInt b = set->blocks[q];
         if (b >= g->nblocks) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " (element %" PetscInt_FMT "), but the geometry has %" PetscInt_FMT " blocks (0 to %" PetscInt_FMT ")", b, q + 1, g->nblocks, g->nblocks - 1));
-        for (PetscInt r = 0; r < q; r++)
-          if (set->blocks[r] == b) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " twice (elements %" PetscInt_FMT " and %" PetscInt_FMT ")", b, r + 1, q + 1));
+        if (first[b] >= 0) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " twice (elements %" PetscInt_FMT " and %" PetscInt_FMT ")", b, first[b] + 1, q + 1));
+        first[b]    = q;
         found[nf++] = b;
       }
+      PetscCall(PetscFree(first));
     }
     PetscCall(BwGeometryAddSet(g, set->name, nf, found));
   }

@@ -178,3 +178,56 @@ PetscErrorCode BwSceneListChildren(BwScene scene, const char option[], PetscInt 
   *names      = list;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+PetscErrorCode BwSceneListEntries(BwScene scene, const char section[], PetscInt nkeys, const char *const keys[], const char what[], PetscInt *n, char ***names)
+{
+  char     mapping[PETSC_MAX_OPTION_NAME + 1], prefix[PETSC_MAX_OPTION_NAME + 1];
+  PetscInt nfile, nopt, count;
+  char   **file, **opts, **all;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(mapping, sizeof(mapping), "-%s", section));
+  PetscCall(PetscSNPrintf(prefix, sizeof(prefix), "%s_", section));
+  PetscCall(BwSceneListChildren(scene, mapping, &nfile, &file));
+  PetscCall(BwSceneListOptions(scene, prefix, &nopt, &opts));
+  PetscCall(PetscMalloc1(nfile + nopt + 1, &all));
+  for (count = 0; count < nfile; count++) all[count] = file[count];
+  for (PetscInt o = 0; o < nopt; o++) {
+    const char *rest = opts[o] + strlen(prefix);
+    size_t      len = strlen(rest), cut = 0;
+    PetscBool   known = PETSC_FALSE;
+    char        name[PETSC_MAX_OPTION_NAME];
+
+    /* an option under a file entry is that entry's: a misspelt key in it is
+     * left to the unused-key check, which names the nearest key */
+    for (PetscInt c = 0; c < nfile && !known; c++) {
+      size_t l = strlen(all[c]);
+      known    = !strncmp(rest, all[c], l) && rest[l] == '_' ? PETSC_TRUE : PETSC_FALSE;
+    }
+    if (known) continue;
+    /* a command-line entry: NAME is what stands before the last _KEY that is
+     * followed by '_' or ends the option (cases_wind_loads_top_beam,
+     * sets_left_pier_box) */
+    for (size_t i = len; i-- > 1 && !cut;) {
+      if (rest[i] != '_') continue;
+      for (PetscInt k = 0; k < nkeys && !cut; k++) {
+        size_t l = strlen(keys[k]);
+        if (!strncmp(rest + i + 1, keys[k], l) && (rest[i + 1 + l] == '_' || !rest[i + 1 + l])) cut = i;
+      }
+    }
+    if (!cut) {
+      char opt[PETSC_MAX_OPTION_NAME + 1];
+      PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", opts[o]));
+      PetscCall(BwSceneError(scene, opt, "%s", what));
+    }
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%.*s", (int)cut, rest));
+    for (PetscInt c = 0; c < count && !known; c++) PetscCall(PetscStrcmp(all[c], name, &known));
+    if (!known) PetscCall(PetscStrallocpy(name, &all[count++]));
+  }
+  all[count] = NULL;
+  PetscCall(PetscFree(file)); /* the names moved to all */
+  PetscCall(PetscStrArrayDestroy(&opts));
+  *n     = count;
+  *names = all;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

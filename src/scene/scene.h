@@ -78,6 +78,12 @@ PetscErrorCode BwSceneListOptions(BwScene scene, const char prefix[], PetscInt *
 /* Names of the children of the file's mapping `option` (e.g. "-cases":
  * "wind_left", "wind_right"), in file order. */
 PetscErrorCode BwSceneListChildren(BwScene scene, const char option[], PetscInt *n, char ***names);
+/* Names of the entries of a section that maps NAME -> {KEY: ...} (cases,
+ * sets): the file's children of -section in file order, then the names
+ * given on the command line only, as -section_NAME_KEY[_...] with KEY one of
+ * `keys`. An option under a file entry belongs to it; any other that names
+ * no KEY is an error saying `what`. Free with PetscStrArrayDestroy. */
+PetscErrorCode BwSceneListEntries(BwScene scene, const char section[], PetscInt nkeys, const char *const keys[], const char what[], PetscInt *n, char ***names);
 
 /* Error (one line, with file:line for file keys, and the nearest name
  * blockwall knows when one is close) for the first key or option that

@@ -178,6 +178,8 @@ def case_stiff(tmp):
     soft = top_beam(solve(scene(tmp, 6, 4.5, split=True, unit="{law: dry, kn: 1.0e11, kt: 4.0e10}", m=64)))
     err = rel_err(stiff, whole)
     expect(err < 1e-5, f"split wall with stiff cracks: top beam {stiff} differs from the whole wall's {whole} by {err:.2e}")
+    # cracks as stiff as the joints (kn 1e11): 24 more compliant vertical
+    # interfaces in every unit, u1 grows far beyond the 1e-5 above (+28 %)
     expect(soft[0] > whole[0] * (1 + 1e-3), f"split wall with soft cracks: top beam u1 {soft[0]} not larger than the whole wall's {whole[0]}")
     print(f"top beam u1: whole {whole[0]:.6e}, stiff cracks {stiff[0]:.6e} (rel. diff {err:.1e}), soft cracks {soft[0]:.6e}")
 
@@ -196,6 +198,8 @@ def case_sets(tmp):
     want[inside] += [100, -300, 0]
     want[[3, 7, 12]] += [0, 0, 7]
     expect(np.array_equal(out["blocks/load"], want), "the loads on scene sets do not reach exactly their blocks")
+    # the run's own self-check holds equilibrium to 1e-10 of the forces
+    # involved; 1e-8 of the loads leaves room for the reactions' round-off
     total = out["blocks/reaction"].sum(0)
     F = want.sum(0)
     expect(abs(total[0] + F[0]) < 1e-8 * np.abs(F).sum() and abs(total[1] + F[1]) < 1e-8 * np.abs(F).sum(),
@@ -215,7 +219,7 @@ def case_errors(tmp):
         ("sets:\n  x: {boxx: [0, 0, 1, 1]}\n", "sets.x.boxx is not a key of a set"),
         ("sets:\n  x: {box: [0, 0, 1, 1], blocks: [1]}\n", "sets.x.blocks and box both define set 'x'"),
         ("sets:\n  x: 5\n", "sets.x is not a set definition"),
-        ("sets: [a, b]\n", "sets "),
+        ("sets: [a, b]\n", "sets must be a mapping (NAME: {box: [x0, y0, x1, y1]} or NAME: {blocks: [b, ...]}), got a sequence"),
     ]
     for extra, phrase in cases:
         code, out, err = run(scene(tmp, 3, 2.5, extra=extra), expect_ok=False)
@@ -225,7 +229,7 @@ def case_errors(tmp):
     for n, phrase in ((2.25, "must be a whole or half number >= 1 (e.g. 10 or 4.5), got 2.25"), (0.5, "got 0.5"), (-3, "got -3")):
         code, out, err = run(scene(tmp, 3, n), expect_ok=False)
         expect(code == 1 and phrase in err and "geometry.running_bond.units_per_course" in err, f"units_per_course {n}: exit {code}, {err.strip()!r}")
-    code, out, err = run(scene(tmp, 3, 2.5, split=True).replace("", ""), ["-joints_unit_kn", "-1"], expect_ok=False)
+    code, out, err = run(scene(tmp, 3, 2.5, split=True), ["-joints_unit_kn", "-1"], expect_ok=False)
     expect(code == 1 and "joints_unit_kn" in err, f"a negative unit crack stiffness: exit {code}, {err.strip()!r}")
     print(f"{len(cases) + 4} bad inputs, each one line naming the key")
 

@@ -20,17 +20,8 @@
 #include "scene/scene.h"
 #include "law/law.h"
 #include "util/compat.h"
+#include "expect.h"
 
-static PetscInt failures = 0;
-
-#define EXPECT(cond, ...) \
-  do { \
-    if (!(cond)) { \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL " __VA_ARGS__)); \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n")); \
-      failures++; \
-    } \
-  } while (0)
 
 static PetscReal Rel(PetscReal a, PetscReal b) { return PetscAbsReal(a - b) / PetscMax(PetscAbsReal(b), 1e-300); }
 
@@ -113,10 +104,10 @@ int main(int argc, char **argv)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "coulomb: %d tangent entries against central differences, worst %.1e of max(kn, |T|); modes met %d %d %d %d\n", (int)checked, (double)worst, (int)seen[0], (int)seen[1], (int)seen[2], (int)seen[3]));
   } else {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL unknown -case %s\n", which));
-    failures++;
+    bw_failures++;
   }
   PetscCall(BwJointLawDestroy(&bed));
   PetscCall(BwSceneDestroy(&scene));
   PetscCall(PetscFinalize());
-  return failures ? 1 : 0;
+  return bw_failures ? 1 : 0;
 }

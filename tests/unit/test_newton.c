@@ -18,17 +18,8 @@
 #include "analysis/analysis.h"
 #include "analysis/newton.h"
 #include "util/compat.h"
+#include "expect.h"
 
-static PetscInt failures = 0;
-
-#define EXPECT(cond, ...) \
-  do { \
-    if (!(cond)) { \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL " __VA_ARGS__)); \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n")); \
-      failures++; \
-    } \
-  } while (0)
 
 /* lambda at monitor u (one converged solve, committed). */
 static PetscErrorCode Go(BwNewton nw, PetscReal u, PetscReal *lambda)
@@ -127,5 +118,5 @@ int main(int argc, char **argv)
   PetscCall(BwGeometryDestroy(&p.geom));
   PetscCall(BwSceneDestroy(&p.scene));
   PetscCall(PetscFinalize());
-  return failures ? 1 : 0;
+  return bw_failures ? 1 : 0;
 }

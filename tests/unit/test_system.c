@@ -28,18 +28,9 @@
 #include "system/mixed.h"
 #include "solver/solver_impl.h"
 #include "util/compat.h"
+#include "expect.h"
 #include "util/log.h"
 
-static PetscInt failures = 0;
-
-#define EXPECT(cond, ...) \
-  do { \
-    if (!(cond)) { \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL " __VA_ARGS__)); \
-      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\n")); \
-      failures++; \
-    } \
-  } while (0)
 
 typedef struct {
   BwScene    scene;
@@ -347,10 +338,10 @@ int main(int argc, char **argv)
   else if (!strcmp(which, "inverse")) PetscCall(CaseInverse(&p, rnd));
   else {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL unknown -case %s\n", which));
-    failures++;
+    bw_failures++;
   }
   PetscCall(PetscRandomDestroy(&rnd));
   PetscCall(ProblemDestroy(&p));
   PetscCall(PetscFinalize());
-  return failures ? 1 : 0;
+  return bw_failures ? 1 : 0;
 }

@@ -1,0 +1,18 @@
+"""The line every benchmark section of bench/results.md starts with: CPU
+model, cores, memory, kernel, and the load when the run began (the machine
+may be shared, and timings move with it)."""
+import os
+import platform
+import re
+
+
+def machine():
+    cpu = "unknown"
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = re.search(r"model name\s*:\s*(.*)", f.read()).group(1)
+    except Exception:
+        pass
+    mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
+    load = open("/proc/loadavg").read().split()[0]
+    return f"{cpu}, {os.cpu_count()} cores, {mem:.0f} GiB, {platform.system()} {platform.release()}; load average {load} at start"
