@@ -330,6 +330,14 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
         if (fpc) {
           PetscCall(MatIsSymmetricKnown(A, &set, &sym));
           PetscCall(BwSolverConditionEstimate(fpc, A, (PetscBool)(set && sym), &s->condition_estimate));
+          /* and what round-off in the factor allows: the refinement's
+           * corrections alone can be the residual's noise */
+          if (s->forward_check && s->direct_fits) {
+            PetscReal bound;
+            PetscCall(BwSolverForwardBound(s, path, x, &bound));
+            PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, round-off bound from the factor %.3e\n", (double)s->forward_estimate, (double)bound));
+            s->forward_estimate = PetscMax(s->forward_estimate, bound);
+          }
         }
       }
     }
@@ -353,6 +361,11 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   } else if (!(s->check.residual <= s->rtol)) {
     PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses solver.rtol %.3e", path->name, (double)s->check.residual, (double)s->rtol));
     *usable = s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
+  } else if (s->forward_check && !(s->forward_estimate <= s->forward_rtol)) {
+    /* the residual met rtol, but the factor's round-off bound says the
+     * displacements may not be right to forward_rtol */
+    PetscCall(PetscSNPrintf(reason, len, "%s: estimated displacement error %.1e (round-off bound of the factor, condition estimate %.1e) above solver.forward_rtol %.1e (true residual %.3e)", path->name, (double)s->forward_estimate, (double)s->condition_estimate, (double)s->forward_rtol, (double)s->check.residual));
+    *usable = PETSC_TRUE;
   } else *ok = *usable = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

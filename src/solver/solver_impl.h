@@ -67,6 +67,8 @@ PetscErrorCode BwSolverFactorDefaults(PC pc);
 PetscErrorCode BwSolverForwardSetUp(BwSolver s);
 PetscErrorCode BwSolverSetConvergenceTest(BwSolver s, KSP ksp);
 PetscErrorCode BwSolverConditionEstimate(PC pc, Mat A, PetscBool symmetric, PetscReal *cond);
+/* Round-off bound on the displacement error of x from A's factor (LAPACK's FERR) */
+PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *ferr);
 /* The factor a path used (the Schur complement's on fieldsplit, the whole
  * system's on direct) and the matrix it factors; NULL when it factored
  * nothing (CG + GAMG). */
