@@ -117,6 +117,34 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* A PETSc option with a value PETSc refused (an unknown type name, a
+ * number that is none) is bad input, like a bad scene key: the option is
+ * found by its value in PETSc's message, among all options given (command
+ * line, PETSC_OPTIONS, the scene), so the line can name it. */
+static PetscBool BwBadOptionValue(PetscErrorCode ierr, const char specific[], char option[], size_t len)
+{
+  char     *all = NULL, *save = NULL, *tok, *prev = NULL;
+  PetscBool found = PETSC_FALSE;
+
+  if (ierr != PETSC_ERR_ARG_UNKNOWN_TYPE && ierr != PETSC_ERR_ARG_OUTOFRANGE && ierr != PETSC_ERR_ARG_WRONG) return PETSC_FALSE;
+  if (PetscOptionsGetAll(NULL, &all) || !all) return PETSC_FALSE;
+  for (tok = strtok_r(all, " ", &save); tok && !found; prev = tok, tok = strtok_r(NULL, " ", &save)) {
+    const char *at;
+    size_t      n = strlen(tok);
+    if (!prev || prev[0] != '-' || tok[0] == '-' || n == 0) continue;
+    /* the value as a whole word of the message */
+    for (at = strstr(specific, tok); at && !found; at = strstr(at + 1, tok)) {
+      char before = at == specific ? ' ' : at[-1], after = at[n];
+      if ((before == ' ' || before == '\'' || before == '"') && (after == 0 || after == ' ' || after == '\'' || after == '"' || after == ',' || after == '.')) {
+        snprintf(option, len, "%s", prev);
+        found = PETSC_TRUE;
+      }
+    }
+  }
+  (void)PetscFree(all);
+  return found;
+}
+
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
@@ -141,13 +169,16 @@ int main(int argc, char **argv)
   if (!ierr) ierr = BwRunMain(PETSC_COMM_WORLD, &run);
   if (ierr) {
     const char *specific = BwErrorText(ierr);
+    char        option[256];
+    PetscBool   bad_option = BwBadOptionValue(ierr, specific, option, sizeof(option));
     if (rank == 0) {
-      if (ierr == PETSC_ERR_MEM) fprintf(stderr, "blockwall: error: out of memory (in %s): the assembly is too large for this machine's memory with these settings\n", specific[0] ? specific : "blockwall");
+      if (bad_option) fprintf(stderr, "blockwall: error: option %s: %s (run with -help for the values it takes)\n", option, specific);
+      else if (ierr == PETSC_ERR_MEM) fprintf(stderr, "blockwall: error: out of memory (in %s): the assembly is too large for this machine's memory with these settings\n", specific[0] ? specific : "blockwall");
       else fprintf(stderr, "blockwall: error: %s\n", specific[0] ? specific : "unknown error");
     }
     /* 1: what the user gave is wrong (scene, command line, a file to read
      * or a place to write); 2: the solve failed */
-    code = ierr == PETSC_ERR_USER_INPUT || ierr == PETSC_ERR_FILE_OPEN || ierr == PETSC_ERR_FILE_READ || ierr == PETSC_ERR_FILE_WRITE ? 1 : 2;
+    code = bad_option || ierr == PETSC_ERR_USER_INPUT || ierr == PETSC_ERR_FILE_OPEN || ierr == PETSC_ERR_FILE_READ || ierr == PETSC_ERR_FILE_WRITE ? 1 : 2;
   }
   if (BwRunDestroy(&run)) code = code ? code : 3;
   PetscPopErrorHandler();

@@ -32,7 +32,14 @@ CASES = {
     "missing_file": ("does_not_exist.yaml", [], ["does_not_exist.yaml"]),
     "unwritable_output": ("ok.yaml", ["-output_file", os.path.join(C, "ok.yaml", "out.h5")], ["-output_file", "cannot be written", "not a directory"]),
     "no_scene": (None, [], ["-scene"]),
+    # a PETSc option with a value PETSc refuses is bad input (exit 1, the
+    # option named), not a failed solve (exit 2, as it was: issue 17)
+    "petsc_ksp_type": ("ok.yaml", ["-ksp_type", "nonsense"], ["option -ksp_type", "nonsense"]),
+    "petsc_schur_pc_type": ("ok.yaml", ["-schur_pc_type", "nonsense"], ["option -schur_pc_type", "nonsense"]),
+    "petsc_number": ("ok.yaml", ["-ksp_rtol", "abc"], ["option -ksp_rtol", "abc"]),
 }
+# the exit code where it is fixed: 1 for what the user gave wrong
+EXIT = {"petsc_ksp_type": 1, "petsc_schur_pc_type": 1, "petsc_number": 1, "unknown_key": 1, "negative_E": 1}
 
 
 def check(name):
@@ -54,6 +61,7 @@ def check(name):
             code, out, err = p.returncode, p.stdout, p.stderr
         lines = [l for l in err.splitlines() if l.strip()]
         expect(code != 0, f"{name}: exit code 0")
+        expect(name not in EXIT or code == EXIT[name], f"{name}: exit code {code}, not {EXIT.get(name)}: {err.strip()}")
         expect(len(lines) == 1, f"{name}: expected one line on stderr, got {len(lines)}:\n{err}")
         for w in wants:
             expect(w in lines[0], f"{name}: {w!r} not in {lines[0]!r}")
