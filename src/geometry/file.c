@@ -247,6 +247,26 @@ static PetscErrorCode BwFileReadSet(BwFileData *d, const char name[])
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* For a geometry file that does not exist: what writes it, when a script
+ * or a drawing of the same name lies beside it (the gallery's arch.py,
+ * stones.py, facade.dxf), so the one error line tells a user on a fresh
+ * clone what to run. */
+static void BwFileWriterHint(const char path[], char hint[], size_t len)
+{
+  char   base[PETSC_MAX_PATH_LEN];
+  size_t n = strlen(path);
+
+  hint[0] = 0;
+  if (n < 4 || n >= sizeof(base) || strcmp(path + n - 3, ".h5")) return;
+  snprintf(base, sizeof(base), "%.*s.py", (int)(n - 3), path);
+  if (access(base, R_OK) == 0) {
+    snprintf(hint, len, "; the script beside it writes it: python3 %s", base);
+    return;
+  }
+  snprintf(base, sizeof(base), "%.*s.dxf", (int)(n - 3), path);
+  if (access(base, R_OK) == 0) snprintf(hint, len, "; it is imported from the drawing beside it: tools/import_dxf %s %s (with the options the scene's comments give)", base, path);
+}
+
 /* Every dataset read, its shape and type checked. */
 static PetscErrorCode BwFileRead(BwFileData *d)
 {
@@ -256,7 +276,12 @@ static PetscErrorCode BwFileRead(BwFileData *d)
   htri_t    is;
 
   PetscFunctionBeginUser;
-  PetscCheck(access(d->path, R_OK) == 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: cannot read '%s': %s", d->where, d->path, strerror(errno));
+  if (access(d->path, R_OK) != 0) {
+    int  err = errno;
+    char hint[2 * PETSC_MAX_PATH_LEN + 128];
+    BwFileWriterHint(d->path, hint, sizeof(hint));
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: cannot read '%s': %s%s", d->where, d->path, strerror(err), err == ENOENT ? hint : "");
+  }
   is = H5Fis_hdf5(d->path);
   PetscCheck(is > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: '%s' is not an HDF5 file", d->where, d->path);
   fapl = H5Pcreate(H5P_FILE_ACCESS);
