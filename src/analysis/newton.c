@@ -22,6 +22,9 @@ struct _n_BwNewton {
   PetscReal   *load0, *pattern;
   BwLog        log; /* the linear solves' own phases, quietly (a pushover makes thousands) */
   PetscBool    debug; /* analysis.newton_monitor: one line per iteration */
+  /* dissipation control: the energy gradient, the last step's balance */
+  Vec          g;
+  PetscReal    step_work, step_dissipation, last_dlambda, lambda_trial;
 };
 
 PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton)
@@ -77,6 +80,7 @@ PetscErrorCode BwNewtonDestroy(BwNewton *newton)
   PetscCall(VecDestroy(&nw->Ft));
   PetscCall(VecDestroy(&nw->dx));
   PetscCall(VecDestroy(&nw->dx2));
+  PetscCall(VecDestroy(&nw->g));
   PetscCall(VecDestroy(&nw->b));
   PetscCall(VecDestroy(&nw->b0));
   PetscCall(VecDestroy(&nw->bP));
@@ -181,6 +185,68 @@ static PetscErrorCode BwNewtonResidual(BwNewton nw, Vec x, PetscReal mu, PetscRe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The energy balance of a step from the committed state (x0, lambda0) to
+ * (x, lambda), with the constant loads held (mu = 1), in the scaled
+ * variables of the mixed system, where a product b~.x~ is the physical
+ * work and the elastic (r, r) block is -I, so that the stored elastic
+ * energy sum_p 1/2 A_p r_p^T C^-1 r_p is 1/2 |r~|^2 exactly:
+ *   W = (b0 + (lambda0 + lambda)/2 bP)_q . (x - x0)_q   the loads' work (trapezoid),
+ *   dE = 1/2 (|x_r|^2 - |x0_r|^2)                      the change of stored energy,
+ *   D = W - dE                                          the energy dissipated.
+ * D is the plastic work of the portions up to the trapezoid rule's error
+ * on the step (exact where the loads' path is linear in the step, as in a
+ * proportional pushover). With `grad`, also dD/dx (in nw->g) and
+ * dD/dlambda = 1/2 bP_q . (x - x0)_q (Verhoosel, Remmers & Gutierrez 2009,
+ * the dissipation constraint, in its plasticity form: joints unload with
+ * their elastic stiffness). */
+static PetscErrorCode BwNewtonEnergy(BwNewton nw, Vec x, PetscReal lambda0, PetscReal lambda, PetscBool grad, PetscReal *work, PetscReal *dissipation, PetscReal *dlambda)
+{
+  IS        isr, isq;
+  Vec       xq, x0q, bq, br, xr, x0r, gq, gr, dq;
+  PetscReal w1, wP, e1, e0;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwMixedGetFields(nw->mx, &isr, &isq));
+  if (!nw->g) PetscCall(VecDuplicate(nw->x, &nw->g));
+  /* the displacement increment, in g's q part as scratch */
+  PetscCall(VecGetSubVector(nw->g, isq, &dq));
+  PetscCall(VecGetSubVector(x, isq, &xq));
+  PetscCall(VecGetSubVector(nw->x, isq, &x0q));
+  PetscCall(VecWAXPY(dq, -1.0, x0q, xq));
+  PetscCall(VecRestoreSubVector(x, isq, &xq));
+  PetscCall(VecRestoreSubVector(nw->x, isq, &x0q));
+  PetscCall(VecGetSubVector(nw->b0, isq, &bq));
+  PetscCall(VecDot(bq, dq, &w1));
+  PetscCall(VecRestoreSubVector(nw->b0, isq, &bq));
+  PetscCall(VecGetSubVector(nw->bP, isq, &bq));
+  PetscCall(VecDot(bq, dq, &wP));
+  PetscCall(VecRestoreSubVector(nw->bP, isq, &bq));
+  PetscCall(VecRestoreSubVector(nw->g, isq, &dq));
+  PetscCall(VecGetSubVector(x, isr, &xr));
+  PetscCall(VecGetSubVector(nw->x, isr, &x0r));
+  PetscCall(VecDot(xr, xr, &e1));
+  PetscCall(VecDot(x0r, x0r, &e0));
+  PetscCall(VecRestoreSubVector(nw->x, isr, &x0r));
+  *work        = w1 + 0.5 * (lambda0 + lambda) * wP;
+  *dissipation = *work - 0.5 * (e1 - e0);
+  if (dlambda) *dlambda = 0.5 * wP;
+  if (grad) {
+    PetscCall(VecGetSubVector(nw->g, isr, &gr));
+    PetscCall(VecAXPBY(gr, -1.0, 0.0, xr));
+    PetscCall(VecRestoreSubVector(nw->g, isr, &gr));
+    PetscCall(VecGetSubVector(nw->g, isq, &gq));
+    PetscCall(VecGetSubVector(nw->b0, isq, &bq));
+    PetscCall(VecCopy(bq, gq));
+    PetscCall(VecRestoreSubVector(nw->b0, isq, &bq));
+    PetscCall(VecGetSubVector(nw->bP, isq, &br));
+    PetscCall(VecAXPY(gq, 0.5 * (lambda0 + lambda), br));
+    PetscCall(VecRestoreSubVector(nw->bP, isq, &br));
+    PetscCall(VecRestoreSubVector(nw->g, isq, &gq));
+  }
+  PetscCall(VecRestoreSubVector(x, isr, &xr));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* K dx = rhs with the current tangents; false (and the reason) if no
  * usable answer. The solver's own checks stand; its error is caught. */
 static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscBool *ok)
@@ -199,10 +265,13 @@ static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscBoo
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lambda, PetscBool displacement, PetscReal target, PetscBool *converged)
+/* One step of Newton under the given control; target: the monitor's
+ * value (displacement) or the energy to dissipate (dissipation). */
+static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lambda, BwNewtonControl control, PetscReal target, PetscBool *converged)
 {
-  PetscReal lam = *lambda, norm, after1 = PETSC_MAX_REAL, target_scaled = 0, gscale = 1;
-  PetscBool failed = PETSC_FALSE;
+  PetscReal lam = *lambda, lam0 = *lambda, norm, after1 = PETSC_MAX_REAL, target_scaled = 0, gscale = 1;
+  PetscBool failed = PETSC_FALSE, displacement = control == BW_NEWTON_DISPLACEMENT ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool dissipation = control == BW_NEWTON_DISSIPATION ? PETSC_TRUE : PETSC_FALSE;
   PetscInt  changes;
 
   PetscFunctionBeginUser;
@@ -217,6 +286,10 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     PetscCall(BwVecEntry(nw->xn, nw->mon_row, &now));
     target_scaled = target / nw->mon_scale;
     gscale        = PetscMax(PetscAbsReal(target_scaled - now), PetscAbsReal(target_scaled));
+  }
+  if (dissipation) {
+    PetscCheck(target > 0, nw->p->comm, PETSC_ERR_ARG_OUTOFRANGE, "dissipation control needs an energy > 0 per step");
+    gscale = target;
   }
   PetscCall(BwNewtonResidual(nw, nw->xn, mu, lam, nw->F, &norm, &failed));
   for (;;) {
@@ -235,6 +308,11 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
       PetscReal now;
       PetscCall(BwVecEntry(nw->xn, nw->mon_row, &now));
       gap = target_scaled - now;
+    }
+    if (dissipation) {
+      PetscReal w, d;
+      PetscCall(BwNewtonEnergy(nw, nw->xn, lam0, lam, PETSC_FALSE, &w, &d, NULL));
+      gap = target - d;
     }
     nw->residual = norm;
     merit        = PetscSqrtReal(norm * norm + (gap / gscale) * (gap / gscale));
@@ -267,7 +345,52 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
      * stiffness on the monitor, so K' stays regular on a plateau) and
      * K' dx1 = -F + e gap, K' dx2 = bP give K dx - bP dlambda = -F with
      * e.dx = gap for dlambda = (gap - e.dx1) / e.dx2, exactly */
+    if (dissipation) {
+      /* bordered: K dx1 = -F, K dx2 = bP, and dlambda from the linearised
+       * constraint D(x + dx1 + dlambda dx2, lambda + dlambda) = target */
+      PetscReal w, d, dDdl, g1, g2;
+      PetscCall(BwMixedSetSpring(nw->mx, -1, 0, 1.0));
+      PetscCall(VecScale(nw->F, -1.0));
+      PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, &ok));
+      PetscCall(VecScale(nw->F, -1.0));
+      if (!ok) break;
+      if (!nw->dx2) PetscCall(VecDuplicate(nw->x, &nw->dx2));
+      PetscCall(BwNewtonLinearSolve(nw, nw->bP, nw->dx2, &ok));
+      if (!ok) break;
+      PetscCall(BwNewtonEnergy(nw, nw->xn, lam0, lam, PETSC_TRUE, &w, &d, &dDdl));
+      PetscCall(VecDot(nw->g, nw->dx, &g1));
+      PetscCall(VecDot(nw->g, nw->dx2, &g2));
+      {
+        /* In an elastic state the loads' work and the stored energy change
+         * alike to first order: the constraint does not see lambda (its
+         * derivative is round-off against the work rate). The first
+         * iteration then predicts along the load pattern by the last
+         * step's increment of lambda (at least 1 % of lambda), which makes the
+         * portions at their strength flow; the next ones are bordered. */
+        IS        isq;
+        Vec       gq, d2q;
+        PetscReal rate, rel;
+        PetscCall(BwMixedGetFields(nw->mx, NULL, &isq));
+        PetscCall(VecGetSubVector(nw->g, isq, &gq));
+        PetscCall(VecGetSubVector(nw->dx2, isq, &d2q));
+        PetscCall(VecDot(gq, d2q, &rate));
+        PetscCall(VecRestoreSubVector(nw->g, isq, &gq));
+        PetscCall(VecRestoreSubVector(nw->dx2, isq, &d2q));
+        rel = PetscAbsReal(g2 + dDdl) / PetscMax(PetscAbsReal(rate), PETSC_SMALL * PETSC_SMALL);
+        if (!PetscIsNormalReal(g2 + dDdl) || rel < 1e-9) {
+          if (nw->its > 0) {
+            PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "the dissipation constraint does not depend on the load factor here (no portion flows: an elastic state)"));
+            break;
+          }
+          dlam = PetscMax(PetscAbsReal(nw->last_dlambda), 0.01 * PetscAbsReal(lam));
+          if (!(dlam > 0)) dlam = 1.0;
+          if (nw->last_dlambda < 0) dlam = -dlam;
+        } else dlam = (target - d - g1) / (g2 + dDdl);
+      }
+      PetscCall(VecAXPY(nw->dx, dlam, nw->dx2));
+    }
     PetscCall(BwMixedSetSpring(nw->mx, displacement ? nw->mon_block : -1, nw->mon_dof, 1.0));
+    if (!dissipation) {
     PetscCall(VecScale(nw->F, -1.0));
     if (displacement) PetscCall(BwVecAddEntry(nw->F, nw->mon_row, gap));
     PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, &ok));
@@ -287,6 +410,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
       dlam = (gap - d1) / d2;
       PetscCall(VecAXPY(nw->dx, dlam, nw->dx2));
     }
+    }
     nw->its++;
     nw->total_its++;
     /* backtracking on the merit (the residual and the monitor's distance
@@ -300,6 +424,11 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
         PetscReal tgap = (1 - alpha) * gap / gscale, tm;
         PetscCall(VecWAXPY(nw->xt, alpha, nw->dx, nw->xn));
         PetscCall(BwNewtonResidual(nw, nw->xt, mu, lam + alpha * dlam, nw->Ft, &tnorm, &tfailed));
+        if (dissipation) {
+          PetscReal w, d;
+          PetscCall(BwNewtonEnergy(nw, nw->xt, lam0, lam + alpha * dlam, PETSC_FALSE, &w, &d, NULL));
+          tgap = (target - d) / gscale;
+        }
         tm = PetscSqrtReal(tnorm * tnorm + tgap * tgap);
         if (tfailed || !PetscIsNormalReal(tnorm + 1)) continue;
         if (tm <= (1 - 1e-4 * alpha) * merit || (tnorm <= nw->rtol && PetscAbsReal(tgap) <= nw->rtol)) accepted = PETSC_TRUE;
@@ -322,14 +451,33 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     norm   = tnorm;
     failed = tfailed;
   }
-  if (*converged) *lambda = lam;
+  if (*converged) {
+    nw->lambda_trial = lam - lam0;
+    *lambda          = lam;
+    PetscCall(BwNewtonEnergy(nw, nw->xn, lam0, lam, PETSC_FALSE, &nw->step_work, &nw->step_dissipation, NULL));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwNewtonSolve(BwNewton nw, PetscReal mu, PetscReal *lambda, PetscBool displacement, PetscReal target, PetscBool *converged)
 {
   PetscFunctionBeginUser;
-  PetscCall(BwNewtonAttempt(nw, mu, lambda, displacement, target, converged));
+  PetscCall(BwNewtonAttempt(nw, mu, lambda, displacement ? BW_NEWTON_DISPLACEMENT : BW_NEWTON_LOAD, target, converged));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonSolveDissipation(BwNewton nw, PetscReal *lambda, PetscReal energy, PetscBool *converged)
+{
+  PetscFunctionBeginUser;
+  PetscCall(BwNewtonAttempt(nw, 1.0, lambda, BW_NEWTON_DISSIPATION, energy, converged));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonGetStepEnergy(BwNewton nw, PetscReal *work, PetscReal *dissipation)
+{
+  PetscFunctionBeginUser;
+  if (work) *work = nw->step_work;
+  if (dissipation) *dissipation = nw->step_dissipation;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -338,6 +486,7 @@ PetscErrorCode BwNewtonCommit(BwNewton nw)
   PetscFunctionBeginUser;
   PetscCall(VecCopy(nw->xn, nw->x));
   PetscCall(BwJointFieldCommit(nw->field));
+  nw->last_dlambda = nw->lambda_trial;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -40,6 +40,18 @@ PetscErrorCode BwNewtonMonitorValue(BwNewton newton, PetscReal *value);
  * state is the new one (BwNewtonCommit accepts it); on failure the
  * solution is restored and *converged is false, with the reason. */
 PetscErrorCode BwNewtonSolve(BwNewton newton, PetscReal mu, PetscReal *lambda, PetscBool displacement, PetscReal target, PetscBool *converged);
+/* The controls of a step: lambda given; the monitor given (lambda an
+ * unknown); the energy the step dissipates given (lambda an unknown). */
+typedef enum { BW_NEWTON_LOAD, BW_NEWTON_DISPLACEMENT, BW_NEWTON_DISSIPATION } BwNewtonControl;
+/* Dissipation control (constant loads held, mu = 1): the step from the
+ * committed state that dissipates `energy` [J] (loads' work minus the
+ * change of stored elastic energy; newton.c, BwNewtonEnergy), lambda an
+ * unknown of a bordered Newton (two solves per iteration with the same
+ * factor). Fails in an elastic state, where no lambda changes the
+ * dissipation to first order. */
+PetscErrorCode BwNewtonSolveDissipation(BwNewton newton, PetscReal *lambda, PetscReal energy, PetscBool *converged);
+/* The last converged step's work of the loads and energy dissipated [J]. */
+PetscErrorCode BwNewtonGetStepEnergy(BwNewton newton, PetscReal *work, PetscReal *dissipation);
 /* The constant loads applied from the unloaded state (mu: 0 -> 1, lambda
  * = 0), under load control, in one step cut in halves where Newton fails
  * (down to min_step) and lengthened again after successes; each converged

@@ -27,10 +27,11 @@
 #include <string.h>
 #include "analysis/analysis.h"
 #include "analysis/newton.h"
+#include "analysis/capacity.h"
 #include "util/compat.h"
 
-typedef enum { BW_CONTROL_LOAD = 0, BW_CONTROL_DISPLACEMENT = 1 } BwControl;
-static const char *const BwControls[] = {"load", "displacement"};
+typedef enum { BW_CONTROL_LOAD = 0, BW_CONTROL_DISPLACEMENT = 1, BW_CONTROL_DISSIPATION = 2 } BwControl;
+static const char *const BwControls[] = {"load", "displacement", "dissipation"};
 
 typedef struct {
   BwControl  control;
@@ -38,6 +39,7 @@ typedef struct {
   PetscInt   monitor_block, monitor_dof;
   char       monitor_set[256];
   PetscReal  target, min_step, tolerance;
+  PetscReal  dissipation_step; /* the first energy per step under dissipation control; 0: from the first step that dissipates */
   PetscInt   steps, max_iterations;
   PetscInt   every; /* output.steps: 0 last, 1 all, N every N-th */
 } BwPushover;
@@ -56,7 +58,7 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   PetscCall(BwAnalysisSolverForJoints(p));
   PetscCall(BwSolverSetExpectedSolves(p->solver, 100));
   PetscCall(BwSceneHelpSection(p->scene, "Pushover (scene key analysis.pushover.*)"));
-  PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover", "loads, body_force, control, monitor, target, steps, min_step, tolerance, max_iterations"));
+  PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover", "loads, body_force, control, monitor, target, steps, min_step, tolerance, max_iterations, dissipation_step"));
   /* the pattern */
   PetscCall(PetscCalloc1(3 * g->nblocks + 1, &po->pattern));
   PetscCall(BwModelReadLoads(p->model, p->scene, "analysis_pushover_", PETSC_FALSE, po->pattern));
@@ -77,8 +79,12 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
     if (!(norm > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_loads", "the load pattern is zero: give analysis.pushover.loads or analysis.pushover.body_force"));
   }
   /* control and monitor */
-  PetscCall(BwSceneEnum(p->scene, "-analysis_pushover_control", "load (lambda prescribed per step) or displacement (the monitor dof prescribed, lambda unknown)", 2, BwControls, &control, NULL));
+  PetscCall(BwSceneEnum(p->scene, "-analysis_pushover_control", "load (lambda prescribed per step), displacement (the monitor dof prescribed, lambda unknown) or dissipation (displacement control while the joints are elastic, then the energy dissipated per step prescribed: follows snap-backs)", 3, BwControls, &control, NULL));
   po->control = (BwControl)control;
+  po->dissipation_step = 0;
+  PetscCall(BwSceneReal(p->scene, "-analysis_pushover_dissipation_step", "control: dissipation: the energy dissipated per step at first [J] (adapted to Newton's iterations); default: what the first dissipating step dissipated", &po->dissipation_step, &given));
+  if (given && !(po->dissipation_step > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_dissipation_step", "must be > 0 [J], got %g", (double)po->dissipation_step));
+  if (given && po->control != BW_CONTROL_DISSIPATION) PetscCall(BwSceneError(p->scene, "-analysis_pushover_dissipation_step", "needs analysis.pushover.control: dissipation (the control is %s)", BwControls[po->control]));
   PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover_monitor", "set, dof"));
   PetscCall(BwSceneString(p->scene, "-analysis_pushover_monitor_set", "Block set whose first block carries the monitor dof", po->monitor_set, sizeof(po->monitor_set), &has_monitor));
   PetscCall(BwSceneString(p->scene, "-analysis_pushover_monitor_dof", "The monitor dof: u1, u2 or w", dofname, sizeof(dofname), &given));
@@ -103,7 +109,7 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   if (!has_monitor) {
     /* load control may do without: the largest component of the pattern */
     PetscReal best = -1;
-    if (po->control == BW_CONTROL_DISPLACEMENT) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "is required with control: displacement (monitor: {set: SET, dof: u1|u2|w})"));
+    if (po->control != BW_CONTROL_LOAD) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "is required with control: %s (monitor: {set: SET, dof: u1|u2|w})", BwControls[po->control]));
     for (PetscInt i = 0; i < 3 * g->nblocks; i++)
       if (PetscAbsReal(po->pattern[i]) > best && !p->model->prescribed[i]) {
         best              = PetscAbsReal(po->pattern[i]);
@@ -119,6 +125,7 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   PetscCall(BwSceneReal(p->scene, "-analysis_pushover_target", "Final lambda (control: load) or final monitor value [m or rad] (control: displacement)", &po->target, &has_target));
   if (!has_target) PetscCall(BwSceneError(p->scene, "-analysis_pushover_target", "is required: the final lambda (load control) or monitor value (displacement control)"));
   if (po->control == BW_CONTROL_LOAD && !(po->target > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_target", "must be > 0 under load control, got %g", (double)po->target));
+  if (po->control == BW_CONTROL_DISSIPATION && !(po->target != 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_target", "must not be 0 under dissipation control: the monitor value where the run ends"));
   po->steps = 100;
   PetscCall(BwSceneInt(p->scene, "-analysis_pushover_steps", "Equal increments to the target", &po->steps, NULL));
   if (po->steps < 1) PetscCall(BwSceneError(p->scene, "-analysis_pushover_steps", "must be >= 1, got %" PetscInt_FMT, po->steps));
@@ -147,11 +154,12 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
 /* The history, on every rank (replicated: a few numbers per step). */
 typedef struct {
   PetscInt   n, max;
-  PetscReal *lambda, *monitor, *residual;
+  PetscReal *lambda, *monitor, *residual, *dissipation;
   PetscInt  *its;
 } BwHistory;
 
-static PetscErrorCode BwHistoryAdd(BwHistory *h, PetscReal lambda, PetscReal monitor, PetscInt its, PetscReal residual)
+/* dissipation: the energy the step dissipated (accumulated here) */
+static PetscErrorCode BwHistoryAdd(BwHistory *h, PetscReal lambda, PetscReal monitor, PetscInt its, PetscReal residual, PetscReal dissipation)
 {
   PetscFunctionBeginUser;
   if (h->n == h->max) {
@@ -160,7 +168,9 @@ static PetscErrorCode BwHistoryAdd(BwHistory *h, PetscReal lambda, PetscReal mon
     PetscCall(PetscRealloc(h->max * sizeof(PetscReal), &h->monitor));
     PetscCall(PetscRealloc(h->max * sizeof(PetscReal), &h->residual));
     PetscCall(PetscRealloc(h->max * sizeof(PetscInt), &h->its));
+    PetscCall(PetscRealloc(h->max * sizeof(PetscReal), &h->dissipation));
   }
+  h->dissipation[h->n] = (h->n ? h->dissipation[h->n - 1] : 0) + dissipation;
   h->lambda[h->n]   = lambda;
   h->monitor[h->n]  = monitor;
   h->its[h->n]      = its;
@@ -176,6 +186,7 @@ static PetscErrorCode BwHistoryFree(BwHistory *h)
   PetscCall(PetscFree(h->monitor));
   PetscCall(PetscFree(h->residual));
   PetscCall(PetscFree(h->its));
+  PetscCall(PetscFree(h->dissipation));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -213,8 +224,9 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
 {
   BwPushover *po = (BwPushover *)a->data;
   PetscReal   t = 0, inc = 1.0 / po->steps, hc = inc, lambda = 0, mon0, load_mon;
-  PetscInt    good = 0, substeps;
-  PetscBool   ok;
+  PetscInt    good = 0, substeps, returns = 0;
+  PetscBool   ok, dissipating = PETSC_FALSE;
+  PetscReal   tau = po->dissipation_step, tau_min = 0, tau_max = 0, totalwork = 0;
   PetscReal  *load;
   const char *reason;
 
@@ -232,45 +244,94 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
     PetscReal res;
     PetscCall(BwNewtonGetResult(nw, &its, &res, NULL));
     PetscCall(BwNewtonMonitorValue(nw, &mon0));
-    PetscCall(BwHistoryAdd(h, 0, mon0, its, res));
+    PetscCall(BwHistoryAdd(h, 0, mon0, its, res, 0)); /* counted from here: the constant loads' own dissipation is not */
   }
   if (po->every >= 1) PetscCall(BwPushoverWriteStep(p, nw, of, 0, 0, load));
   (void)load_mon;
 
-  while (t < 1 - 1e-12) {
-    PetscReal tn = PetscMin(1.0, t + hc), lam = lambda, goal;
-    if (1 - tn < 1e-9 * inc) tn = 1;
-    goal = po->control == BW_CONTROL_LOAD ? tn * po->target : mon0 + tn * (po->target - mon0);
-    if (po->control == BW_CONTROL_LOAD) lam = goal;
-    PetscCall(BwNewtonSolve(nw, 1.0, &lam, po->control == BW_CONTROL_DISPLACEMENT ? PETSC_TRUE : PETSC_FALSE, goal, &ok));
+  while (t < 1 - 1e-12 && !stop[0]) {
+    PetscReal tn, lam = lambda, goal, work = 0, dissipated = 0;
+    PetscBool by_energy = po->control == BW_CONTROL_DISSIPATION && dissipating ? PETSC_TRUE : PETSC_FALSE;
+    if (by_energy) PetscCall(BwNewtonSolveDissipation(nw, &lam, tau, &ok));
+    else {
+      if (po->control == BW_CONTROL_DISSIPATION) t = (h->monitor[h->n - 1] - mon0) / (po->target - mon0); /* from where energy control left it */
+      tn = PetscMin(1.0, t + hc);
+      if (1 - tn < 1e-9 * inc) tn = 1;
+      goal = po->control == BW_CONTROL_LOAD ? tn * po->target : mon0 + tn * (po->target - mon0);
+      if (po->control == BW_CONTROL_LOAD) lam = goal;
+      PetscCall(BwNewtonSolve(nw, 1.0, &lam, po->control == BW_CONTROL_LOAD ? PETSC_FALSE : PETSC_TRUE, goal, &ok));
+    }
     if (ok) {
       PetscInt  its, step;
       PetscReal res, mon;
       PetscCall(BwNewtonCommit(nw));
       PetscCall(BwNewtonGetResult(nw, &its, &res, NULL));
       PetscCall(BwNewtonMonitorValue(nw, &mon));
-      t      = tn;
+      PetscCall(BwNewtonGetStepEnergy(nw, &work, &dissipated));
       lambda = lam;
       step   = h->n;
-      PetscCall(BwHistoryAdd(h, lambda, mon, its, res));
-      if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": lambda %12.5e, monitor %12.5e, %2" PetscInt_FMT " Newton iterations, residual %.1e\n", step, (double)lambda, (double)mon, its, (double)res));
+      PetscCall(BwHistoryAdd(h, lambda, mon, its, res, dissipated));
+      if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": lambda %12.5e, monitor %12.5e, %2" PetscInt_FMT " Newton iterations, residual %.1e%s, dissipated %.3e\n", step, (double)lambda, (double)mon, its, (double)res, by_energy ? " (energy control)" : "", (double)dissipated));
       if (po->every >= 1 && step % po->every == 0) PetscCall(BwPushoverWriteStep(p, nw, of, step, lambda, load));
-      if (++good >= 2) hc = PetscMin(inc, 2 * hc);
+      if (by_energy) {
+        /* adapt the energy per step to Newton's work, and stop at the
+         * target or after the most steps */
+        if (its <= 4) tau = PetscMin(1.5 * tau, tau_max);
+        else if (its >= 10) tau *= 0.6;
+        t = (mon - mon0) / (po->target - mon0);
+        if (t >= 1) t = 1;
+      } else {
+        if (po->control != BW_CONTROL_DISSIPATION) t = tn;
+        else t = PetscMin(1.0, (mon - mon0) / (po->target - mon0));
+        if (++good >= 2) hc = PetscMin(inc, 2 * hc);
+        /* dissipation control takes over once a step dissipates more
+         * than 1 % of the loads' work on it */
+        if (po->control == BW_CONTROL_DISSIPATION && dissipated > 0.01 * PetscAbsReal(work)) {
+          dissipating = PETSC_TRUE;
+          if (!(tau > 0)) tau = dissipated;
+          tau_min = tau * po->min_step;
+          tau_max = tau;
+          if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  energy control from here: %.3e J per step\n", (double)tau));
+        }
+      }
+      if (po->control == BW_CONTROL_DISSIPATION && step >= po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target", po->steps));
+    } else if (by_energy) {
+      PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
+      tau /= 2;
+      if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": energy per step cut to %.3e (%s)\n", h->n, (double)tau, reason));
+      if (tau < tau_min) {
+        /* nothing dissipates any more (elastic unloading, rocking):
+         * displacement control again */
+        dissipating = PETSC_FALSE;
+        tau         = 2 * tau_min / po->min_step;
+        hc          = inc;
+        good        = 0;
+        if (++returns > 2) PetscCall(PetscSNPrintf(stop, len, "no converged state beyond monitor = %.6g under energy or displacement control (last failure: %s)", (double)h->monitor[h->n - 1], reason));
+      }
     } else {
       PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
       good = 0;
       hc /= 2;
       if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": cut back to %.3g of an increment (%s)\n", h->n, (double)(hc / inc), reason));
       if (hc < po->min_step * inc * (1 - 1e-12)) {
-        if (po->control == BW_CONTROL_LOAD)
+        if (po->control == BW_CONTROL_DISSIPATION && returns <= 2) {
+          /* a snap-back at the peak: no displacement beyond it has a
+           * state Newton can reach; energy control from here */
+          dissipating = PETSC_TRUE;
+          if (!(tau > 0)) tau = po->dissipation_step > 0 ? po->dissipation_step : PetscMax(1e-2 * totalwork, PETSC_SMALL);
+          tau_min = tau * po->min_step;
+          tau_max = tau;
+          hc      = inc;
+          if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  displacement control cannot go on: energy control from here, %.3e J per step\n", (double)tau));
+        } else if (po->control == BW_CONTROL_LOAD)
           PetscCall(PetscSNPrintf(stop, len, "collapse: no equilibrium beyond lambda = %.6g even with steps of %g of an increment (last failure: %s)", (double)lambda, (double)po->min_step, reason));
         else
           PetscCall(PetscSNPrintf(stop, len, "no converged state beyond monitor = %.6g even with steps of %g of an increment: the end of what displacement control can follow (last failure: %s)", (double)h->monitor[h->n - 1], (double)po->min_step, reason));
-        break;
       }
     }
+    if (ok) totalwork += work;
   }
-  if (t >= 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "target reached"));
+  if (!stop[0]) PetscCall(PetscSNPrintf(stop, len, "target reached"));
   /* the last step is always written when steps are */
   if (po->every > 1 && (h->n - 1) % po->every) PetscCall(BwPushoverWriteStep(p, nw, of, h->n - 1, lambda, load));
   if (po->every == 0) PetscCall(BwPushoverWriteStep(p, nw, of, h->n - 1, lambda, load));
@@ -284,7 +345,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   BwPushover    *po = (BwPushover *)a->data;
   BwNewton       nw;
   BwOutputFile   of;
-  BwHistory      h = {0, 0, NULL, NULL, NULL, NULL};
+  BwHistory      h = {0, 0, NULL, NULL, NULL, NULL, NULL};
   char          *text, stop[1024] = "";
   PetscReal      lambda = 0, peak = -PETSC_MAX_REAL, peak_mon = 0, *load;
   PetscInt       npeak = 0, nsteps_planned, count[4], its, solves;
@@ -293,6 +354,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   BwOutputData   data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
   BwCheck        check;
   BwReport       report;
+  BwCapacity     cap;
   Vec            x, b;
 
   PetscFunctionBeginUser;
@@ -349,6 +411,15 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(BwReportReal(report, "peak_load_factor", peak));
   PetscCall(BwReportReal(report, "peak_monitor", peak_mon));
   PetscCall(BwReportString(report, "stop_reason", stop));
+  PetscCall(BwCapacityCompute(h.n, h.lambda, h.monitor, h.dissipation, po->target - h.monitor[0] >= 0 ? 1.0 : -1.0, &cap));
+  PetscCall(BwReportReal(report, "first_peak_load_factor", cap.first_peak_load_factor));
+  PetscCall(BwReportReal(report, "first_peak_monitor", cap.first_peak_monitor));
+  PetscCall(BwReportReal(report, "residual_load_factor", cap.residual_load_factor));
+  PetscCall(BwReportReal(report, "dissipated_energy", cap.dissipated_energy));
+  PetscCall(BwReportReal(report, "ultimate_displacement", cap.ultimate_displacement));
+  PetscCall(BwReportReal(report, "bilinear_yield_force", cap.yield_force));
+  PetscCall(BwReportReal(report, "bilinear_yield_displacement", cap.yield_displacement));
+  PetscCall(BwReportReal(report, "ductility", cap.ductility));
   PetscCall(BwReportString(report, "control", BwControls[po->control]));
   PetscCall(BwReportInt(report, "newton_iterations", its));
   PetscCall(BwReportInt(report, "linear_solves", solves));
@@ -356,7 +427,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   data.scene  = text;
   PetscCall(BwLogBegin(p->log, BW_PHASE_WRITE));
   {
-    BwOutputHistory hist = {h.n, h.lambda, h.monitor, h.residual, h.its};
+    BwOutputHistory hist = {h.n, h.lambda, h.monitor, h.residual, h.its, h.dissipation};
     PetscCall(BwOutputClose(&of, &data, &hist, p->log));
   }
   PetscCall(BwLogEnd(p->log, BW_PHASE_WRITE));
@@ -368,6 +439,9 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   }
   PetscCall(PetscPrintf(p->comm, "  steps %" PetscInt_FMT " (%" PetscInt_FMT " Newton iterations, %" PetscInt_FMT " linear solves); stop: %s\n", h.n, its, solves, stop));
   PetscCall(PetscPrintf(p->comm, "  peak load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); last: load factor %.6g, monitor %.6g\n", (double)peak, npeak, (double)peak_mon, (double)h.lambda[h.n - 1], (double)h.monitor[h.n - 1]));
+  PetscCall(PetscPrintf(p->comm, "  first peak: load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); residual load factor %.6g (%.3g of the peak); dissipated %.6g J\n", (double)cap.first_peak_load_factor, cap.first_peak, (double)cap.first_peak_monitor, (double)cap.residual_load_factor, (double)(cap.residual_load_factor / peak), (double)cap.dissipated_energy));
+  if (cap.note[0]) PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): %s; ultimate displacement %.6g\n", cap.note, (double)cap.ultimate_displacement));
+  else PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): stiffness %.6g, yield load factor %.6g at %.6g, ultimate displacement %.6g, ductility %.3g\n", (double)cap.stiffness, (double)cap.yield_force, (double)cap.yield_displacement, (double)cap.ultimate_displacement, (double)cap.ductility));
   PetscCall(PetscPrintf(p->comm, "  joints at the end: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic\n", count[1], count[2], count[3], count[0]));
   PetscCall(PetscPrintf(p->comm, "  residual of the nonlinear system %.3e; equilibrium error (reactions + loads) %.3e\n", (double)h.residual[h.n - 1], (double)check.equilibrium_error));
   PetscCall(BwProblemPrintTail(p, p->output->file));

@@ -192,6 +192,7 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutput
     PetscCall(BwH5FileWriteAll(h, "/history/load_factor", H5T_NATIVE_DOUBLE, 1, dims, hist->load_factor));
     PetscCall(BwH5FileWriteAll(h, "/history/monitor", H5T_NATIVE_DOUBLE, 1, dims, hist->monitor));
     PetscCall(BwH5FileWriteAll(h, "/history/residual", H5T_NATIVE_DOUBLE, 1, dims, hist->residual));
+    if (hist->dissipation) PetscCall(BwH5FileWriteAll(h, "/history/dissipation", H5T_NATIVE_DOUBLE, 1, dims, hist->dissipation));
     PetscCall(PetscMalloc1(hist->n + 1, &its));
     for (PetscInt i = 0; i < hist->n; i++) its[i] = hist->iterations ? hist->iterations[i] : 0;
     PetscCall(BwH5FileWriteAll(h, "/history/iterations", H5T_NATIVE_INT64, 1, dims, its));

@@ -38,6 +38,7 @@ typedef struct {
   PetscInt         n;
   const PetscReal *load_factor, *monitor, *residual;
   const PetscInt  *iterations;
+  const PetscReal *dissipation; /* cumulative energy dissipated [J] (NULL: not written) */
 } BwOutputHistory;
 
 /* A result file written over a run: steps as they converge, the final

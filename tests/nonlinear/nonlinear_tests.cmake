@@ -19,3 +19,10 @@ foreach(np 1 2)
                    -scene ${CMAKE_CURRENT_LIST_DIR}/../unit/newton_block.yaml)
   set_tests_properties(nonlinear.unload_reload_${np} PROPERTIES LABELS "nonlinear;unit" ENVIRONMENT "${BW_MPI_ENV}")
 endforeach()
+
+# Past the peak (issue 20): dissipation control on a snap-back against its
+# closed form, the capacity figures against their definitions.
+foreach(np 1 2)
+  bw_py_test(nonlinear.snapback_${np} "nonlinear;mpi" nonlinear/check_past_peak.py snapback ${np})
+endforeach()
+bw_py_test(nonlinear.capacity nonlinear nonlinear/check_past_peak.py capacity)
