@@ -25,7 +25,7 @@ __version__ = "0.1.0"
 
 _LAZY = {  # need matplotlib or ezdxf: imported on first use
     "plot_wall": "plots", "plot_interface_stress": "plots", "plot_history": "plots", "auto_scale": "plots",
-    "plot_cracks": "plots", "peak_step": "plots", "nearest_written_step": "plots", "portion_segments": "plots",
+    "plot_cracks": "plots", "curve_axes": "plots", "peak_step": "plots", "nearest_written_step": "plots", "portion_segments": "plots",
     "WallPlot": "plots", "StressPlot": "plots", "HistoryPlot": "plots", "CrackPlot": "plots", "summary": "summary", "summary_rows": "summary",
     "import_dxf": "dxf", "DxfError": "dxf",
 }

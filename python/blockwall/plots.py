@@ -181,6 +181,30 @@ def plot_interface_stress(res, k):
                       {"normal": mean_normal, "shear": mean_shear})
 
 
+def curve_axes(res):
+    """How a capacity curve's axes read (issue 17): the monitor by name
+    and unit ("u1 of top_beam [mm]", rotations in mrad) and the load in the
+    pattern's unit: lambda times the pattern's resultant |sum F| (N), in kN
+    from 1 kN up. Returns (x scale, x label, y scale, y label): plot
+    monitor * x scale against lambda * y scale. Files written before the
+    attributes existed keep the generic labels."""
+    sv = res.solver or {}
+    dof, where = sv.get("monitor_dof"), sv.get("monitor_set")
+    if dof and where:
+        xs, xl = (1e3, f"{dof} of {where} [mrad]") if dof == "w" else (1e3, f"{dof} of {where} [mm]")
+    else:
+        xs, xl = 1.0, "monitor dof [m or rad]"
+    pr = sv.get("pattern_resultant")
+    if isinstance(pr, (int, float, np.floating)) and pr > 0:
+        lam = np.asarray(res.history["load_factor"]) if res.history and "load_factor" in res.history else np.ones(1)
+        big = np.max(np.abs(lam)) * pr >= 1e3
+        ys, yl = (pr / 1e3, "load [kN]") if big else (pr, "load [N]")
+        yl += f" (λ × pattern, |ΣF| = {pr:.4g} N)"
+    else:
+        ys, yl = 1.0, "load factor λ"
+    return xs, xl, ys, yl
+
+
 @dataclass
 class HistoryPlot:
     figure: Figure
@@ -195,16 +219,17 @@ def plot_history(res):
     if not res.history or "load_factor" not in res.history or "monitor" not in res.history:
         raise ValueError(f"{res.path} has no /history (not a pushover result)")
     lam, mon = np.asarray(res.history["load_factor"]), np.asarray(res.history["monitor"])
+    xs, xl, ys, yl = curve_axes(res)
     fig = _canvas((7, 5))
     ax = fig.add_subplot()
-    ax.plot(mon, lam, "-o", markersize=3, color="tab:blue")
+    ax.plot(mon * xs, lam * ys, "-o", markersize=3, color="tab:blue")
     ax.axhline(0, color="k", linewidth=0.6)
     peak = res.solver.get("peak_load_factor")
-    if isinstance(peak, (int, float)):
-        ax.axhline(peak, color="0.4", linestyle="--", linewidth=1, label=f"peak λ = {peak:.6g}")
+    if isinstance(peak, (int, float, np.floating)):
+        ax.axhline(peak * ys, color="0.4", linestyle="--", linewidth=1, label=f"peak λ = {peak:.6g}")
         ax.legend(loc="best", fontsize="small")
-    ax.set_xlabel("monitor dof [m or rad]")
-    ax.set_ylabel("load factor λ")
+    ax.set_xlabel(xl)
+    ax.set_ylabel(yl)
     ax.grid(True, alpha=0.3)
     stop = res.solver.get("stop_reason", "")
     ax.set_title(f"{res.title or 'blockwall'}: pushover, {len(lam)} steps" + (f"\n{stop}" if stop else ""))
@@ -319,13 +344,15 @@ def plot_cracks(res, at="end"):
     lam = mon = None
     if history:
         lam, mon = float(history["load_factor"][step]), float(history["monitor"][step])
-        ax_h.plot(history["monitor"], history["load_factor"], "-", color="0.5", linewidth=1)
+        xs, xl, ys, yl = curve_axes(res)
+        hm, hl = np.asarray(history["monitor"]) * xs, np.asarray(history["load_factor"]) * ys
+        ax_h.plot(hm, hl, "-", color="0.5", linewidth=1)
         p = peak_step(res)
-        ax_h.plot(history["monitor"][p], history["load_factor"][p], "o", markersize=12, markerfacecolor="none",
+        ax_h.plot(hm[p], hl[p], "o", markersize=12, markerfacecolor="none",
                   markeredgecolor="k", label=f"peak, step {p}")
-        ax_h.plot(mon, lam, "o", color="tab:red", markersize=6, label=f"drawn, step {step}")
-        ax_h.set_xlabel("monitor dof [m or rad]")
-        ax_h.set_ylabel("load factor λ")
+        ax_h.plot(mon * xs, lam * ys, "o", color="tab:red", markersize=6, label=f"drawn, step {step}")
+        ax_h.set_xlabel(xl)
+        ax_h.set_ylabel(yl.replace(" (λ", "\n(λ"))
         ax_h.grid(True, alpha=0.3)
         ax_h.legend(loc="best", fontsize="small")
 
@@ -338,5 +365,7 @@ def plot_cracks(res, at="end"):
                 (" (the peak)" if kind == "peak" else "") + f"; λ = {lam:.6g}")
     else:
         what = f"step {step}, λ = {lam:.6g}"
-    ax.set_title(f"{res.title or 'blockwall'}: crack pattern {where}\n{what}")
+    # the figure's title, not the wall's: a title longer than the wall's
+    # axes ran off the figure's left edge (issue 17); the layout makes room
+    fig.suptitle(f"{res.title or 'blockwall'}: crack pattern {where}\n{what}", wrap=True)
     return CrackPlot(fig, ax, ax_h, kind, requested, step, nearest, state, segments, counts, lines, lam, mon)

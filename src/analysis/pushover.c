@@ -421,6 +421,18 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(BwReportReal(report, "bilinear_yield_displacement", cap.yield_displacement));
   PetscCall(BwReportReal(report, "ductility", cap.ductility));
   PetscCall(BwReportString(report, "control", BwControls[po->control]));
+  /* what a capacity curve's axes are labelled with: the monitor by name,
+   * the load in the pattern's units (|sum of the pattern's forces| in N) */
+  PetscCall(BwReportString(report, "monitor_set", po->monitor_set));
+  PetscCall(BwReportString(report, "monitor_dof", po->monitor_dof == 0 ? "u1" : po->monitor_dof == 1 ? "u2" : "w"));
+  {
+    PetscReal f1 = 0, f2 = 0;
+    for (PetscInt b = 0; b < p->geom->nblocks; b++) {
+      f1 += po->pattern[3 * b];
+      f2 += po->pattern[3 * b + 1];
+    }
+    PetscCall(BwReportReal(report, "pattern_resultant", PetscSqrtReal(f1 * f1 + f2 * f2)));
+  }
   PetscCall(BwReportInt(report, "newton_iterations", its));
   PetscCall(BwReportInt(report, "linear_solves", solves));
   data.solver = report;

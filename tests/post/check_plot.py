@@ -148,8 +148,16 @@ def check_history(res, f):
     expect(np.array_equal(hp.monitor, mon) and np.array_equal(hp.load_factor, lam),
            f"capacity curve holds {hp.monitor}, {hp.load_factor}; /history {mon}, {lam}")
     line = hp.ax.lines[0]
-    expect(np.array_equal(line.get_xdata(), mon) and np.array_equal(line.get_ydata(), lam),
-           "the curve drawn is not /history/monitor against /history/load_factor")
+    xs, _, ys, _ = post.curve_axes(res)
+    expect(np.array_equal(line.get_xdata(), mon * xs) and np.array_equal(line.get_ydata(), lam * ys),
+           "the curve drawn is not /history/monitor against /history/load_factor (in the axes' units)")
+    # the axes as a test report reads them (issue 17): the monitor named, in
+    # mm; the load in the pattern's unit (1 N on top_beam: lambda N, in kN)
+    sv = f["solver"].attrs
+    expect(sv["monitor_set"] == b"top_beam" or sv["monitor_set"] == "top_beam", f"monitor_set {sv['monitor_set']!r}")
+    expect(float(sv["pattern_resultant"]) == 1.0, f"pattern_resultant {sv['pattern_resultant']!r} for a pattern of 1 N")
+    expect(hp.ax.get_xlabel() == "u1 of top_beam [mm]" and xs == 1e3, f"x label {hp.ax.get_xlabel()!r}")
+    expect(hp.ax.get_ylabel().startswith("load [kN]") and ys == 1e-3, f"y label {hp.ax.get_ylabel()!r}")
 
 
 def portion_ends(f):
@@ -184,7 +192,16 @@ def check_cracks(res, f, at, state, step):
     # red open, blue sliding, purple both: the dominant channels of each colour
     (r1, g1, b1), (r2, g2, b2), (r3, g3, b3) = (cp.lines[s].get_colors()[0][:3] for s in (1, 2, 3))
     expect(r1 > max(g1, b1) and b2 > max(r2, g2) and min(r3, b3) > g3, "the states' colours are not red, blue, purple")
-    expect(f"step {step}" in cp.ax.get_title(), f"{at}: the title does not name step {step}: {cp.ax.get_title()!r}")
+    expect(f"step {step}" in cp.figure.get_suptitle(), f"{at}: the title does not name step {step}: {cp.figure.get_suptitle()!r}")
+    # every text of the figure inside it once drawn (the title once ran off
+    # its left edge, issue 17)
+    fig = cp.figure
+    fig.canvas.draw()
+    box = fig.bbox
+    for t in [fig._suptitle, cp.ax.xaxis.label, cp.ax.yaxis.label] + ([cp.ax_history.xaxis.label, cp.ax_history.yaxis.label] if cp.ax_history else []):
+        e = t.get_window_extent(fig.canvas.get_renderer())
+        expect(e.x0 >= box.x0 - 0.5 and e.x1 <= box.x1 + 0.5 and e.y0 >= box.y0 - 0.5 and e.y1 <= box.y1 + 0.5,
+               f"{at}: {t.get_text()!r} drawn at {e} outside the figure {box}")
     return cp
 
 
@@ -213,7 +230,7 @@ def pushover(tmp):
         written = sorted(int(k) for k in f["steps"])
         expect(written == list(range(last + 1)), f"output.steps all wrote steps {written} of 0..{last}")
         cp = check_cracks(res, f, "peak", f[f"steps/{peak:06d}/interfaces/state"][()], peak)
-        expect(cp.requested == peak and not cp.nearest and "nearest" not in cp.ax.get_title(),
+        expect(cp.requested == peak and not cp.nearest and "nearest" not in cp.figure.get_suptitle(),
                f"the peak's own step {peak} was written, yet {cp.step} drawn as the nearest")
         end_state = f["interfaces/state"][()]
         expect(np.array_equal(end_state, f[f"steps/{last:06d}/interfaces/state"][()]),
@@ -238,8 +255,8 @@ def pushover(tmp):
         expect(peak not in written, f"every_{every} wrote the peak step {peak}: {written}")
         near = min(written, key=lambda s: (abs(s - peak), -s))
         cp = check_cracks(res, f, "peak", f[f"steps/{near:06d}/interfaces/state"][()], near)
-        expect(cp.nearest and cp.requested == peak and f"nearest to step {peak}" in cp.ax.get_title(),
-               f"the title does not say step {near} is the nearest to the peak {peak}: {cp.ax.get_title()!r}")
+        expect(cp.nearest and cp.requested == peak and f"nearest to step {peak}" in cp.figure.get_suptitle(),
+               f"the title does not say step {near} is the nearest to the peak {peak}: {cp.figure.get_suptitle()!r}")
         end = check_cracks(res, f, "end", f["interfaces/state"][()], last)
         line = (f"crack pattern at the peak (step {near}, the written step nearest to the peak, step {peak}): "
                 f"{os.path.join(png2, 'every_cracks_peak.png')}")
