@@ -156,6 +156,10 @@ int main(int argc, char **argv)
    * full disk); ROMIO reports through return codes only, which blockwall
    * turns into its one error line. A user's own choice (OMPI_MCA_io) wins. */
   setenv("OMPI_MCA_io", "^ompio", 0);
+  if (BwSignalsInstallEarly()) {
+    fprintf(stderr, "blockwall: error: cannot install a signal handler\n");
+    return 3;
+  }
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   PetscCall(PetscMemzero(&run, sizeof(run)));
   /* Errors are reported once, as one line, by this driver: no PETSc

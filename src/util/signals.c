@@ -1,9 +1,13 @@
 /* Signal handling for interrupted runs (see signals.h). Only
- * async-signal-safe calls in the handler: unlink, write, sigaction, raise. */
+ * async-signal-safe calls in the handlers: unlink, write, sigaction, raise,
+ * clock_gettime. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <pthread.h>
 #include <signal.h>
+#include <time.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 #include "util/signals.h"
@@ -14,13 +18,54 @@
 static char                  bw_temporary[BW_MAX_TEMPORARY][PETSC_MAX_PATH_LEN + 64];
 static volatile sig_atomic_t bw_ntemporary = 0;
 static int                   bw_rank       = 0;
-static const int             bw_signals[]  = {SIGTERM, SIGINT, SIGHUP};
+static const int             bw_signals[]  = {SIGTERM, SIGINT, SIGHUP, SIGCONT};
+
+/* The launcher's kill sequence. Open MPI's mpiexec (4.x), told to stop by
+ * SIGTERM or SIGINT, sends its ranks SIGCONT, waits a second, then SIGTERM,
+ * and by then no longer forwards their output: a short run went on to write
+ * its result in that second, and the line never reached the user. A SIGCONT
+ * that does not end a stop is therefore the launcher stopping the job, and
+ * is treated as the interruption it announces. A stop is seen by a thread
+ * that only ticks a clock every BW_TICK_NS: after SIGSTOP (a scheduler's or
+ * mpiexec's suspend) its last tick is old when SIGCONT resumes the process. */
+#define BW_TICK_NS 50000000L
+#define BW_STOPPED_NS 400000000L
+static volatile sig_atomic_t bw_tick_sec = 0, bw_tick_nsec = 0, bw_ticking = 0;
+
+static void *BwTicker(void *arg)
+{
+  struct timespec t, nap = {0, BW_TICK_NS};
+  (void)arg;
+  for (;;) {
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    bw_tick_sec  = (sig_atomic_t)t.tv_sec;
+    bw_tick_nsec = (sig_atomic_t)t.tv_nsec;
+    bw_ticking   = 1;
+    nanosleep(&nap, NULL);
+  }
+  return NULL;
+}
+
+/* SIGCONT after a stop: the last tick is older than a few of its periods. */
+static int BwResumedFromStop(void)
+{
+  struct timespec t;
+  long long       since;
+  if (!bw_ticking) return 1; /* no clock to tell: keep SIGCONT's meaning */
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  since = ((long long)t.tv_sec - (long long)bw_tick_sec) * 1000000000LL + ((long long)t.tv_nsec - (long long)bw_tick_nsec);
+  return since > BW_STOPPED_NS;
+}
 
 static void BwSignalHandler(int sig)
 {
   struct sigaction dfl;
   static const char line[] = "blockwall: error: interrupted by a signal; every output file is either complete or as it was\n";
 
+  if (sig == SIGCONT) {
+    if (BwResumedFromStop()) return;
+    sig = SIGTERM; /* the launcher's SIGTERM is a second away */
+  }
   for (int k = 0; k < bw_ntemporary && k < BW_MAX_TEMPORARY; k++)
     if (bw_temporary[k][0]) (void)unlink(bw_temporary[k]);
   if (bw_rank == 0 && write(STDERR_FILENO, line, sizeof(line) - 1) < 0) { /* nothing more to do */
@@ -32,19 +77,58 @@ static void BwSignalHandler(int sig)
   raise(sig);
 }
 
-PetscErrorCode BwSignalsInstall(MPI_Comm comm)
+static int BwSignalsSetHandlers(void)
 {
   struct sigaction sa;
-  PetscMPIInt      rank;
 
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  bw_rank = rank;
   memset(&sa, 0, sizeof(sa));
   sa.sa_handler = BwSignalHandler;
   sigemptyset(&sa.sa_mask);
   for (size_t k = 0; k < sizeof(bw_signals) / sizeof(bw_signals[0]); k++) sigaddset(&sa.sa_mask, bw_signals[k]);
-  for (size_t k = 0; k < sizeof(bw_signals) / sizeof(bw_signals[0]); k++) PetscCheck(sigaction(bw_signals[k], &sa, NULL) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install a signal handler: %s", strerror(errno));
+  for (size_t k = 0; k < sizeof(bw_signals) / sizeof(bw_signals[0]); k++)
+    if (sigaction(bw_signals[k], &sa, NULL)) return -1;
+  return 0;
+}
+
+/* The launcher's rank, before MPI can tell it (Open MPI, PMIx, PMI, Slurm). */
+static int BwLauncherRank(void)
+{
+  static const char *const names[] = {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"};
+  for (size_t k = 0; k < sizeof(names) / sizeof(names[0]); k++) {
+    const char *v = getenv(names[k]);
+    if (v && *v) return atoi(v);
+  }
+  return 0;
+}
+
+int BwSignalsInstallEarly(void)
+{
+  pthread_t      ticker;
+  pthread_attr_t attr;
+  sigset_t       all, old;
+
+  bw_rank = BwLauncherRank();
+  if (BwSignalsSetHandlers()) return -1;
+  /* the ticker takes no signal: they are all handled by the threads that work */
+  sigfillset(&all);
+  pthread_sigmask(SIG_SETMASK, &all, &old);
+  if (!pthread_attr_init(&attr)) {
+    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+    (void)pthread_create(&ticker, &attr, BwTicker, NULL); /* without it SIGCONT is ignored, as before */
+    pthread_attr_destroy(&attr);
+  }
+  pthread_sigmask(SIG_SETMASK, &old, NULL);
+  return 0;
+}
+
+PetscErrorCode BwSignalsInstall(MPI_Comm comm)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  bw_rank = rank;
+  PetscCheck(BwSignalsSetHandlers() == 0, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install a signal handler: %s", strerror(errno));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -10,8 +10,13 @@
 #pragma once
 #include <petscsys.h>
 
-/* Installs the handlers (after PetscInitialize, over PETSc's for these
- * signals); rank 0 prints the line. */
+/* Installs the handlers and starts the clock that tells a launcher's
+ * SIGCONT from a resume (signals.c), first thing in main, so that a signal
+ * during MPI's start-up is seen too; the rank that prints is the launcher's
+ * until MPI runs. Returns non-zero when a handler cannot be installed. */
+int BwSignalsInstallEarly(void);
+/* Installs the handlers again after PetscInitialize (over PETSc's for these
+ * signals); rank 0 of comm prints the line. */
 PetscErrorCode BwSignalsInstall(MPI_Comm comm);
 /* A temporary file a signal must remove / no longer remove. */
 PetscErrorCode BwTemporaryAdd(const char path[]);

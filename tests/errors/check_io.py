@@ -11,6 +11,13 @@ earlier result untouched, no temporary file and no directory created.
   signal SIG PROCS SIGTERM or SIGINT while the file is being written: the
                    temporary file is removed (before: left behind)
   solve PROCS      SIGTERM during the solve: no file created
+  launcher SIG TO  a 2-rank run of a 4e4-block wall, the signal sent to
+                   TO (mpiexec or rank1) once each phase has begun (the
+                   write slowed down): it ends within seconds with the one
+                   line, exit non-zero, nothing written. Before, a SIGTERM
+                   to mpiexec let both ranks run on and write their result
+                   (mpiexec sends SIGCONT, waits a second, then SIGTERM, and
+                   no longer forwards the ranks' output by then)
 
 The faults come from tests/errors/failwrite.c, preloaded into the run
 (BW_FAIL_AFTER, BW_FAKE_FREE, BW_WRITE_DELAY_MS). On 2 ranks mpiexec adds
@@ -106,6 +113,54 @@ def during_solve(procs):
         print(f"SIGTERM after '{line.split()[1]}' on {procs} rank(s): exit {p.returncode}, nothing created")
 
 
+PHASES = ["start", "generate", "partition", "assemble", "setup", "solve", "recover"]
+
+
+def launcher(sig, to):
+    """For each phase: wait for the progress line of the phase before it
+    (start: the first bytes of output are not awaited) and send the signal."""
+    big = ["-geometry_running_bond_courses", "200", "-geometry_running_bond_units_per_course", "200", "-progress"]
+    env = dict(ENV, LD_PRELOAD=os.path.abspath(SHIM), BW_WRITE_DELAY_MS="100")
+    for after in PHASES:
+        with tempfile.TemporaryDirectory() as tmp:
+            old, _ = prepare(tmp)
+            p = subprocess.Popen(command(2, old, big), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                                 start_new_session=True)
+            seen = ""
+            if after == "start":
+                time.sleep(0.5)
+            else:
+                while p.poll() is None:
+                    line = p.stdout.readline()
+                    if not line or f"] {after} " in line:
+                        seen = line
+                        break
+                expect(seen, f"{after}: no progress line for it")
+            target = p.pid
+            if to == "rank1":
+                ranks = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True, text=True).stdout.split()
+                kids = [int(r) for r in ranks]
+                # mpiexec's children are the ranks, in the order it started them
+                expect(len(kids) == 2, f"{after}: ranks of mpiexec {p.pid}: {kids}")
+                target = max(kids)
+            t0 = time.time()
+            os.kill(target, sig)
+            try:
+                out, err = p.communicate(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+                raise Failure(f"{signal.Signals(sig).name} to {to} after {after}: the run did not end within 30 s")
+            took = time.time() - t0
+            ours = blockwall_lines(err)
+            expect(p.returncode != 0, f"{signal.Signals(sig).name} to {to} after {after}: exit 0\n{out[-400:]}")
+            expect(len(ours) == 1 and "interrupted by a signal" in ours[0],
+                   f"{signal.Signals(sig).name} to {to} after {after}: blockwall's lines {ours}\n{err}")
+            expect(took < 5, f"{signal.Signals(sig).name} to {to} after {after}: the run took {took:.1f} s to end")
+            check_clean(tmp, old, f"{signal.Signals(sig).name} to {to} after {after}")
+            print(f"{signal.Signals(sig).name} to {to} once '{after}' had ended: exit {p.returncode} after {took:.2f} s, "
+                  f"one line, the earlier result untouched, nothing created")
+
+
 if __name__ == "__main__":
     try:
         case, args = sys.argv[1], sys.argv[2:]
@@ -117,6 +172,8 @@ if __name__ == "__main__":
             interrupted(getattr(signal, args[0]), int(args[1]))
         elif case == "solve":
             during_solve(int(args[0]))
+        elif case == "launcher":
+            launcher(getattr(signal, args[0]), args[1])
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
