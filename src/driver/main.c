@@ -171,6 +171,7 @@ int main(int argc, char **argv)
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   ierr = BwSceneCheckArguments(PETSC_COMM_WORLD, argc, argv);
   if (!ierr) ierr = BwRunMain(PETSC_COMM_WORLD, &run);
+  BwSignalsFinishing();
   if (ierr) {
     const char *specific = BwErrorText(ierr);
     char        option[256];

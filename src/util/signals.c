@@ -28,33 +28,40 @@ static const int             bw_signals[]  = {SIGTERM, SIGINT, SIGHUP, SIGCONT};
  * is treated as the interruption it announces. A stop is seen by a thread
  * that only ticks a clock every BW_TICK_NS: after SIGSTOP (a scheduler's or
  * mpiexec's suspend) its last tick is old when SIGCONT resumes the process. */
-#define BW_TICK_NS 50000000L
-#define BW_STOPPED_NS 400000000L
-static volatile sig_atomic_t bw_tick_sec = 0, bw_tick_nsec = 0, bw_ticking = 0;
+#define BW_TICK_NS 50000000LL
+#define BW_STOPPED_NS 400000000LL
+/* monotonic nanoseconds of the last tick and of the last resume the ticker
+ * saw (a gap between its ticks); lock-free atomics are safe in a handler */
+static _Atomic long long bw_tick = 0, bw_resumed = -1000000000000LL;
+static _Atomic int       bw_finishing = 0;
+
+static long long BwNow(void)
+{
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (long long)t.tv_sec * 1000000000LL + t.tv_nsec;
+}
 
 static void *BwTicker(void *arg)
 {
-  struct timespec t, nap = {0, BW_TICK_NS};
+  struct timespec nap = {0, BW_TICK_NS};
   (void)arg;
   for (;;) {
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    bw_tick_sec  = (sig_atomic_t)t.tv_sec;
-    bw_tick_nsec = (sig_atomic_t)t.tv_nsec;
-    bw_ticking   = 1;
+    long long now = BwNow(), last = bw_tick;
+    if (last && now - last > BW_STOPPED_NS) bw_resumed = now;
+    bw_tick = now;
     nanosleep(&nap, NULL);
   }
   return NULL;
 }
 
-/* SIGCONT after a stop: the last tick is older than a few of its periods. */
+/* SIGCONT after a stop: the ticker has not ticked since (the handler runs
+ * first), or it has and saw the gap (it ran first). */
 static int BwResumedFromStop(void)
 {
-  struct timespec t;
-  long long       since;
-  if (!bw_ticking) return 1; /* no clock to tell: keep SIGCONT's meaning */
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  since = ((long long)t.tv_sec - (long long)bw_tick_sec) * 1000000000LL + ((long long)t.tv_nsec - (long long)bw_tick_nsec);
-  return since > BW_STOPPED_NS;
+  long long now = BwNow(), tick = bw_tick;
+  if (!tick) return 1; /* no clock to tell: keep SIGCONT's meaning */
+  return now - tick > BW_STOPPED_NS || now - bw_resumed < 2 * BW_STOPPED_NS;
 }
 
 static void BwSignalHandler(int sig)
@@ -63,7 +70,9 @@ static void BwSignalHandler(int sig)
   static const char line[] = "blockwall: error: interrupted by a signal; every output file is either complete or as it was\n";
 
   if (sig == SIGCONT) {
-    if (BwResumedFromStop()) return;
+    /* after the run: a rank that ended first (with its error) makes the
+     * launcher stop the others, which have nothing left to lose or say */
+    if (BwResumedFromStop() || bw_finishing) return;
     sig = SIGTERM; /* the launcher's SIGTERM is a second away */
   }
   for (int k = 0; k < bw_ntemporary && k < BW_MAX_TEMPORARY; k++)
@@ -120,6 +129,8 @@ int BwSignalsInstallEarly(void)
   pthread_sigmask(SIG_SETMASK, &old, NULL);
   return 0;
 }
+
+void BwSignalsFinishing(void) { bw_finishing = 1; }
 
 PetscErrorCode BwSignalsInstall(MPI_Comm comm)
 {

@@ -18,6 +18,9 @@ int BwSignalsInstallEarly(void);
 /* Installs the handlers again after PetscInitialize (over PETSc's for these
  * signals); rank 0 of comm prints the line. */
 PetscErrorCode BwSignalsInstall(MPI_Comm comm);
+/* The run has ended (its result written or its error known): a launcher's
+ * SIGCONT is no longer an interruption to report. */
+void BwSignalsFinishing(void);
 /* A temporary file a signal must remove / no longer remove. */
 PetscErrorCode BwTemporaryAdd(const char path[]);
 void           BwTemporaryRemove(const char path[]);

@@ -11,6 +11,8 @@ earlier result untouched, no temporary file and no directory created.
   signal SIG PROCS SIGTERM or SIGINT while the file is being written: the
                    temporary file is removed (before: left behind)
   solve PROCS      SIGTERM during the solve: no file created
+  resume           SIGSTOP and SIGCONT (a suspended job resumed): the run
+                   ends normally
   launcher SIG TO  a 2-rank run of a 4e4-block wall, the signal sent to
                    TO (mpiexec or rank1) once each phase has begun (the
                    write slowed down): it ends within seconds with the one
@@ -113,6 +115,23 @@ def during_solve(procs):
         print(f"SIGTERM after '{line.split()[1]}' on {procs} rank(s): exit {p.returncode}, nothing created")
 
 
+def resume():
+    """A stop and its SIGCONT (a scheduler's suspend and resume) are not an
+    interruption: the run ends normally with its result."""
+    big = ["-geometry_running_bond_courses", "200", "-geometry_running_bond_units_per_course", "200", "-progress"]
+    with tempfile.TemporaryDirectory() as tmp:
+        target = os.path.join(tmp, "r.h5")
+        p = subprocess.Popen(command(1, target, big), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+        line = p.stdout.readline()
+        expect("[blockwall]" in line, f"no progress line: {line!r}")
+        p.send_signal(signal.SIGSTOP)
+        time.sleep(1.0)
+        p.send_signal(signal.SIGCONT)
+        out, err = p.communicate(timeout=120)
+        expect(p.returncode == 0 and os.path.exists(target), f"stopped and resumed: exit {p.returncode}\n{err}")
+        print(f"SIGSTOP after '{line.split()[1]}', SIGCONT 1 s later: exit 0, result written")
+
+
 PHASES = ["start", "generate", "partition", "assemble", "setup", "solve", "recover"]
 
 
@@ -172,6 +191,8 @@ if __name__ == "__main__":
             interrupted(getattr(signal, args[0]), int(args[1]))
         elif case == "solve":
             during_solve(int(args[0]))
+        elif case == "resume":
+            resume()
         elif case == "launcher":
             launcher(getattr(signal, args[0]), args[1])
     except Failure as e:
