@@ -32,6 +32,13 @@ PetscErrorCode BwToleranceCompute(PetscInt nvertices, const PetscReal xy[], Pets
  * or touching edges, zero area. A clockwise polygon is reversed in place
  * (vertex 0 stays first). */
 PetscErrorCode BwValidatePolygon(const char file[], PetscInt b, PetscInt first, PetscInt nv, PetscReal xy[], const BwTolerance *tol);
+/* ---- polygon_sweep.c ---- */
+/* Distance of segments a0-a1 and b0-b1 (0 when they cross). */
+PetscReal BwSegmentDistance(const PetscReal a0[2], const PetscReal a1[2], const PetscReal b0[2], const PetscReal b1[2]);
+/* A pair k < l of edges (k: vertex k -> k+1) that share no vertex and are
+ * at most d apart, or k = l = -1 when there is none; O(n log n) on any
+ * polygon. work: the steps taken (comparisons, distances, tree rotations). */
+PetscErrorCode BwPolygonCloseEdges(PetscInt nv, const PetscReal xy[], PetscReal d, PetscInt *k, PetscInt *l, PetscInt64 *work);
 /* Blocks whose interiors share more than delta * (smaller perimeter) of area. */
 PetscErrorCode BwValidateOverlaps(const char file[], BwGeometry g, const BwTolerance *tol);
 /* Every block has at least one interface; `detected` adds the detection
