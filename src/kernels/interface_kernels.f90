@@ -285,12 +285,29 @@ contains
     real(c_double), intent(in) :: area(np), xi(np), eta(np), tangent(stresses(dim), stresses(dim), nt)
     real(c_double), intent(out) :: kg(dofs(dim), dofs(dim))
     integer(c_int), intent(out) :: status
-    real(c_double) :: full(6, 6), c(3, 3), e(3, 6)
+    real(c_double) :: full(6, 6), c(3, 3), e(3, 6), m0, m1, m2
     integer :: p, t
     status = check_portions(dim, np, area)
     if (status /= BW_KERNEL_OK) return
     if (nt /= 1 .and. nt /= np) then
       status = BW_KERNEL_BAD_M
+      return
+    end if
+    if (dim == 2 .and. nt == 1) then
+      ! one tangent: K_G from the moments sum A_p, sum A_p xi_p, sum A_p xi_p^2
+      m0 = 0
+      m1 = 0
+      m2 = 0
+      do p = 1, np
+        m0 = m0 + area(p)
+        m1 = m1 + area(p) * xi(p)
+        m2 = m2 + area(p) * xi(p) * xi(p)
+      end do
+      c(1:2, 1:2) = transpose(tangent(:, :, 1))
+      kg(1:2, 1:2) = m0 * transpose(c(1:2, 1:2))
+      kg(3, 1:2) = m1 * c(1:2, 2)
+      kg(1:2, 3) = m1 * c(2, 1:2)
+      kg(3, 3) = m2 * c(2, 2)
       return
     end if
     if (dim == 2) then
@@ -325,9 +342,28 @@ contains
     real(c_double), intent(out) :: k(2 * dofs(dim), 2 * dofs(dim))
     integer(c_int), intent(out) :: status
     ! row-major in C: rb(c, r) = (R B)[r][c], so rb is (R B)^T; kg(b, a) =
-    ! K_G[a][b], so transpose(kg) is K_G; k(b, a) = S[a][b]
-    k = transpose(matmul(rb, matmul(transpose(kg), transpose(rb))))
+    ! K_G[a][b], so transpose(kg) is K_G; k(b, a) = S[a][b]. The shapes are
+    ! fixed per dimension so that the products are unrolled, not calls.
+    if (dim == 2) then
+      k = pair2(rb, kg)
+    else if (dim == 3) then
+      k = pair3(rb, kg)
+    else
+      status = BW_KERNEL_BAD_DIMENSION
+      return
+    end if
     status = BW_KERNEL_OK
+  contains
+    pure function pair2(rbt, kgt) result(kk)
+      real(c_double), intent(in) :: rbt(6, 3), kgt(3, 3)
+      real(c_double) :: kk(6, 6)
+      kk = transpose(matmul(rbt, matmul(transpose(kgt), transpose(rbt))))
+    end function pair2
+    pure function pair3(rbt, kgt) result(kk)
+      real(c_double), intent(in) :: rbt(12, 6), kgt(6, 6)
+      real(c_double) :: kk(12, 12)
+      kk = transpose(matmul(rbt, matmul(transpose(kgt), transpose(rbt))))
+    end function pair3
   end subroutine bw_kernel_stiffness
 
   !> The ns np rows of D^ for the interface, before the dofs' own scaling:

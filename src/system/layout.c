@@ -30,12 +30,10 @@ PetscErrorCode BwMixedCompatibility(BwMixed mx, PetscInt k, PetscReal rb[18])
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-void BwMixedPortionScales(BwMixed mx, PetscInt k, PetscReal *at, PetscReal *an)
+void BwMixedStiffnessRoots(BwMixed mx, PetscInt k, PetscReal *skt, PetscReal *skn)
 {
-  PetscReal ap = mx->geom->depth * mx->geom->length[k] / mx->m;
-
-  *at = PetscSqrtReal(ap * mx->model->kt[k]);
-  *an = PetscSqrtReal(ap * mx->model->kn[k]);
+  *skt = PetscSqrtReal(mx->model->kt[k]);
+  *skn = PetscSqrtReal(mx->model->kn[k]);
 }
 
 /* 1/sqrt(diag S) per free dof of the elastic system: the dof's own stiffness
@@ -62,12 +60,14 @@ static PetscErrorCode BwMixedScales(BwMixed mx)
     PetscReal diag[3] = {0, 0, 0};
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1] && need[b]; a++) {
       PetscInt  k = mx->adj[a], side = BwSide(mx, k, b);
-      PetscReal rb[18], kg[9], s[36], c[4] = {mx->model->kt[k], 0, 0, mx->model->kn[k]};
-      int       status;
+      PetscReal        rb[18], kg[9], s[36], c[4] = {mx->model->kt[k], 0, 0, mx->model->kn[k]};
+      const PetscReal *area, *xi, *eta;
+      PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
+      int              status;
       PetscCall(BwMixedCompatibility(mx, k, rb));
-      bw_interface_condense((int)mx->m, g->length[k], g->depth, 1, c, kg, &status);
-      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ") has a non-positive or non-finite length", k, g->pair[2 * k], g->pair[2 * k + 1]);
-      bw_interface_stiffness(rb, kg, s, &status);
+      bw_kernel_condense(2, (int)np, area, xi, eta, 1, c, kg, &status);
+      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+      bw_kernel_stiffness(2, rb, kg, s, &status);
       for (PetscInt c3 = 0; c3 < 3; c3++) diag[c3] += s[(side + c3) * 7];
     }
     for (PetscInt c3 = 0; c3 < 3; c3++) mx->qscale[3 * b + c3] = !mx->model->prescribed[3 * b + c3] && diag[c3] > 0 ? 1 / PetscSqrtReal(diag[c3]) : 1;
@@ -114,6 +114,7 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     PetscCall(PetscFree(fill));
   }
   *mixed = mx; /* from here on, BwMixedDestroy cleans up after an error */
+  PetscCall(BwPortionsCreate2D(ni, geom->pair, geom->length, geom->depth, mx->m, &mx->portions));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
   PetscCall(BwMixedCheckRestraint(mx));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
@@ -209,6 +210,7 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed)
   PetscCall(PetscFree4(mx->krow_q, mx->qrow, mx->krow_r, mx->rrow));
   PetscCall(PetscFree2(mx->own_blocks, mx->own_interfaces));
   PetscCall(PetscFree(mx->qscale));
+  PetscCall(BwPortionsDestroy(&mx->portions));
   PetscCall(MatDestroy(&mx->K));
   PetscCall(MatDestroy(&mx->D));
   PetscCall(MatDestroy(&mx->S));

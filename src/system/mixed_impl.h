@@ -3,6 +3,7 @@
 #pragma once
 #include "system/mixed.h"
 #include "util/log.h"
+#include "system/portions.h"
 
 /* A CSR matrix's values as PETSc holds them: row starts and values of the
  * diagonal part (all of it on one rank) and of the off-diagonal part (NULL
@@ -17,6 +18,7 @@ struct _n_BwMixed {
   BwGeometry geom;
   BwModel    model;
   PetscInt   m;
+  BwPortions portions; /* of every interface: areas and centroids, shared by shape */
   /* layout (replicated): owner rank of each block and interface; per block
    * the global row of its first dof in K (3 consecutive rows) and in the
    * q vectors (columns of D^, rows of S^), -1 for a block without free dofs;
@@ -57,8 +59,20 @@ struct _n_BwMixed {
 static inline PetscInt BwSide(BwMixed mx, PetscInt k, PetscInt b) { return mx->geom->pair[2 * k] == b ? 0 : 3; }
 /* R B of interface k (rb[3][6]); PETSC_ERR_PLIB on a kernel failure. */
 PetscErrorCode BwMixedCompatibility(BwMixed mx, PetscInt k, PetscReal rb[18]);
-/* Interface k's scaling stiffness factors a_t = sqrt(A_p kt), a_n = sqrt(A_p kn). */
-void BwMixedPortionScales(BwMixed mx, PetscInt k, PetscReal *at, PetscReal *an);
+/* Interface k's square roots of its scaling stiffness, sqrt(kt) and sqrt(kn):
+ * portion p's stresses are scaled by sqrt(A_p) times them. */
+void BwMixedStiffnessRoots(BwMixed mx, PetscInt k, PetscReal *skt, PetscReal *skn);
+/* Interface k's portions: their number and areas, centroids, sqrt(A_p). */
+static inline PetscInt BwMixedPortions(BwMixed mx, PetscInt k, const PetscReal **area, const PetscReal **xi, const PetscReal **eta, const PetscReal **sqa)
+{
+  const BwPortions *P = &mx->portions;
+  PetscInt          f = BwPortionsFirst(P, k);
+  if (area) *area = P->area + f;
+  if (xi) *xi = P->xi + f;
+  if (eta) *eta = P->eta + f;
+  if (sqa) *sqa = P->sqrt_area + f;
+  return BwPortionsCount(P, k);
+}
 /* D^ as a shell (operator.c) or assembled (CSR rows of the owned interfaces). */
 PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D);
 PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscBool tangent, Mat *D);

@@ -37,16 +37,19 @@ PetscErrorCode BwMixedResidual(BwMixed mx, Vec x, Vec b, BwPortionLawFn law, voi
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
     PetscInt     k  = mx->own_interfaces[e];
     PetscScalar *fk = f + m2 * e;
-    PetscReal    at, an, ap = mx->geom->depth * mx->geom->length[k] / mx->m;
-    BwMixedPortionScales(mx, k, &at, &an);
-    for (PetscInt p = 0; p < mx->m; p++) {
-      jump[2 * p]     = PetscRealPart(fk[2 * p]) / at;
-      jump[2 * p + 1] = PetscRealPart(fk[2 * p + 1]) / an;
+    PetscReal        skt, skn;
+    const PetscReal *sqa;
+    PetscInt         np = BwMixedPortions(mx, k, NULL, NULL, NULL, &sqa);
+    /* the scaled jump is sqrt(A_p) C^1/2 j, the scaled stress r / (sqrt(A_p) C^1/2) ... times A_p */
+    BwMixedStiffnessRoots(mx, k, &skt, &skn);
+    for (PetscInt p = 0; p < np; p++) {
+      jump[2 * p]     = PetscRealPart(fk[2 * p]) / (sqa[p] * skt);
+      jump[2 * p + 1] = PetscRealPart(fk[2 * p + 1]) / (sqa[p] * skn);
     }
     PetscCall(law(ctx, e, k, jump, sigma));
-    for (PetscInt p = 0; p < mx->m; p++) {
-      fk[2 * p]     = -r[m2 * e + 2 * p] + ap * sigma[2 * p] / at;
-      fk[2 * p + 1] = -r[m2 * e + 2 * p + 1] + ap * sigma[2 * p + 1] / an;
+    for (PetscInt p = 0; p < np; p++) {
+      fk[2 * p]     = -r[m2 * e + 2 * p] + sqa[p] * sigma[2 * p] / skt;
+      fk[2 * p + 1] = -r[m2 * e + 2 * p + 1] + sqa[p] * sigma[2 * p + 1] / skn;
     }
   }
   PetscCall(VecRestoreArrayRead(xr, &r));

@@ -3,15 +3,15 @@
  *
  * D^ by its structure: for interface k with R B (3 x 6), dof scales s of
  * its two blocks (zero at prescribed dofs, whose values are lifted to the
- * right-hand side) and portion factors a_t = sqrt(A_p kt), a_n = sqrt(A_p kn),
- * the 2m rows are D^_k = U_k W_k with W_k = R B diag(s) (3 x 6, 18 numbers)
- * and U_k the portion map scaled by (a_t, a_n). Storing W_k, two column
+ * right-hand side) and portion factors sqrt(A_p) (sqrt(kt), sqrt(kn)), the
+ * 2m rows are D^_k = U_k W_k with W_k = R B diag(s) (3 x 6, 18 numbers) and
+ * U_k the portion map scaled by those factors. Storing W_k, two column
  * indices and three scalars costs ~200 bytes per interface instead of
- * 2m x 6 entries (2.3 KB at m = 16). Products cost the same flops as with
- * the assembled matrix:
- *   y = D^ q:    dG = W_k q_k; j = E_p dG (kernel); y_p = (a_t j_t, a_n j_n)
- *   q = D^T y:   (T, N, M) = H (y_p (a_t, a_n) / A_p) (kernel); q_k += W_k^T (T, N, M)
- * The assembled rows come from the same kernels (bw_interface_operator), so
+ * 2m x 6 entries (2.3 KB at m = 16); the portions (portions.h) are shared
+ * by shape. Products cost the same flops as with the assembled matrix:
+ *   y = D^ q:    dG = W_k q_k; j = E_p dG (kernel); y_p = sqrt(A_p) (skt j_t, skn j_n)
+ *   q = D^T y:   (T, N, M) = H (y_p (skt, skn) / sqrt(A_p)) (kernel); q_k += W_k^T (T, N, M)
+ * The assembled rows come from the same kernels (bw_kernel_operator), so
  * D^ is defined once. Dofs of blocks owned by other ranks come through one
  * scatter (forward for D^ q, reverse with addition for D^T y); none on one
  * rank. */
@@ -20,10 +20,12 @@
 #include "blockwall/kernels.h"
 
 typedef struct {
-  PetscInt   m, n;    /* portions; owned interfaces */
+  PetscInt   m, n;    /* most portions of an interface; owned interfaces */
   PetscReal *w;       /* 18 per interface: W_k row-major (t, n, phi) x 6 */
   PetscInt  *col;     /* 2 per interface: first dof of block i, j: local q index, nq_local + ghost index, or -1 */
-  PetscReal *at, *an, *len, depth;
+  PetscReal *skt, *skn; /* per interface: sqrt(kt), sqrt(kn) */
+  PetscInt  *first, *np, *row; /* per interface: its first portion in the table, its portions, its first row of y */
+  const BwPortions *portions;
   PetscReal *work;    /* 2m */
   PetscInt   nq_local;
   Vec        ghost;   /* dofs of other ranks' blocks, sequential */
@@ -36,8 +38,8 @@ static PetscErrorCode BwDShellDestroy(Mat A)
 
   PetscFunctionBeginUser;
   PetscCall(MatShellGetContext(A, &ctx));
-  PetscCall(PetscFree4(ctx->w, ctx->col, ctx->at, ctx->an));
-  PetscCall(PetscFree2(ctx->len, ctx->work));
+  PetscCall(PetscFree4(ctx->w, ctx->col, ctx->skt, ctx->skn));
+  PetscCall(PetscFree4(ctx->first, ctx->np, ctx->row, ctx->work));
   PetscCall(VecDestroy(&ctx->ghost));
   PetscCall(VecScatterDestroy(&ctx->scatter));
   PetscCall(PetscFree(ctx));
@@ -60,9 +62,10 @@ static PetscErrorCode BwDShellMult(Mat A, Vec q, Vec y)
   PetscCall(VecGetArrayRead(q, &ql));
   PetscCall(VecGetArray(y, &yy));
   for (PetscInt e = 0; e < ctx->n; e++) {
-    const PetscReal *w  = ctx->w + 18 * e;
+    const PetscReal *w  = ctx->w + 18 * e, *sqa = ctx->portions->sqrt_area + ctx->first[e];
+    const PetscReal *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
     PetscReal        dg[3] = {0, 0, 0};
-    PetscScalar     *ye    = yy + 2 * ctx->m * e;
+    PetscScalar     *ye    = yy + ctx->row[e];
     int              status;
     for (PetscInt s = 0; s < 2; s++) {
       PetscInt           c = ctx->col[2 * e + s];
@@ -76,10 +79,10 @@ static PetscErrorCode BwDShellMult(Mat A, Vec q, Vec y)
         dg[2] += w[12 + 3 * s + f] * v;
       }
     }
-    bw_interface_jumps((int)ctx->m, ctx->len[e], dg, ye, &status);
-    for (PetscInt p = 0; p < ctx->m; p++) {
-      ye[2 * p] *= ctx->at[e];
-      ye[2 * p + 1] *= ctx->an[e];
+    bw_kernel_jumps(2, (int)ctx->np[e], xi, eta, dg, ye, &status);
+    for (PetscInt p = 0; p < ctx->np[e]; p++) {
+      ye[2 * p] *= sqa[p] * ctx->skt[e];
+      ye[2 * p + 1] *= sqa[p] * ctx->skn[e];
     }
   }
   PetscCall(VecRestoreArray(y, &yy));
@@ -104,15 +107,16 @@ static PetscErrorCode BwDShellMultTransposeAdd(Mat A, Vec y, Vec q0, Vec q)
   PetscCall(VecGetArray(q, &ql));
   PetscCall(VecGetArrayRead(y, &yy));
   for (PetscInt e = 0; e < ctx->n; e++) {
-    const PetscReal   *w  = ctx->w + 18 * e;
-    const PetscScalar *ye = yy + 2 * ctx->m * e;
-    PetscReal          f3[3], ap = ctx->depth * ctx->len[e] / ctx->m;
+    const PetscReal   *w  = ctx->w + 18 * e, *isqa = ctx->portions->inv_sqrt_area + ctx->first[e];
+    const PetscReal   *area = ctx->portions->area + ctx->first[e], *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
+    const PetscScalar *ye = yy + ctx->row[e];
+    PetscReal          f3[3];
     int                status;
-    for (PetscInt p = 0; p < ctx->m; p++) {
-      ctx->work[2 * p]     = ctx->at[e] / ap * PetscRealPart(ye[2 * p]);
-      ctx->work[2 * p + 1] = ctx->an[e] / ap * PetscRealPart(ye[2 * p + 1]);
+    for (PetscInt p = 0; p < ctx->np[e]; p++) {
+      ctx->work[2 * p]     = ctx->skt[e] * isqa[p] * PetscRealPart(ye[2 * p]);
+      ctx->work[2 * p + 1] = ctx->skn[e] * isqa[p] * PetscRealPart(ye[2 * p + 1]);
     }
-    bw_interface_resultants((int)ctx->m, ctx->len[e], ctx->depth, ctx->work, f3, &status);
+    bw_kernel_resultants(2, (int)ctx->np[e], area, xi, eta, ctx->work, f3, &status);
     for (PetscInt s = 0; s < 2; s++) {
       PetscInt     c = ctx->col[2 * e + s];
       PetscScalar *x;
@@ -165,9 +169,9 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
   ctx->m        = m;
   ctx->n        = mx->nown_interfaces;
   ctx->nq_local = mx->nq_local;
-  ctx->depth    = geom->depth;
-  PetscCall(PetscMalloc4(18 * ctx->n + 1, &ctx->w, 2 * ctx->n + 1, &ctx->col, ctx->n + 1, &ctx->at, ctx->n + 1, &ctx->an));
-  PetscCall(PetscMalloc2(ctx->n + 1, &ctx->len, 2 * m, &ctx->work));
+  ctx->portions = &mx->portions;
+  PetscCall(PetscMalloc4(18 * ctx->n + 1, &ctx->w, 2 * ctx->n + 1, &ctx->col, ctx->n + 1, &ctx->skt, ctx->n + 1, &ctx->skn));
+  PetscCall(PetscMalloc4(ctx->n + 1, &ctx->first, ctx->n + 1, &ctx->np, ctx->n + 1, &ctx->row, 2 * mx->portions.maxnp, &ctx->work));
   /* blocks owned elsewhere, by their first q row, sorted and unique: the ghost layout */
   PetscCall(PetscMalloc1(2 * ctx->n + 1, &ghosts));
   for (PetscInt e = 0; e < ctx->n; e++) {
@@ -190,8 +194,10 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
         ctx->col[2 * e + s] = mx->nq_local + 3 * gi;
       }
     }
-    BwMixedPortionScales(mx, k, &ctx->at[e], &ctx->an[e]);
-    ctx->len[e] = geom->length[k];
+    BwMixedStiffnessRoots(mx, k, &ctx->skt[e], &ctx->skn[e]);
+    ctx->first[e] = BwPortionsFirst(&mx->portions, k);
+    ctx->np[e]    = BwPortionsCount(&mx->portions, k);
+    ctx->row[e]   = e ? ctx->row[e - 1] + 2 * ctx->np[e - 1] : 0;
   }
   {
     /* the scatter is collective: every rank creates one if any rank needs it */
@@ -370,12 +376,12 @@ PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscBool tangent, Mat *D)
   PetscCall(PetscMalloc1(6 * m2, &d));
   n = 0;
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt  k = mx->own_interfaces[e], nc = 0;
-    PetscReal at, an;
-    int       status;
+    PetscInt         k = mx->own_interfaces[e], nc = 0;
+    const PetscReal *area, *xi, *eta;
+    PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
+    int              status;
     PetscCall(BwMixedScaledCompatibility(mx, k, w));
-    BwMixedPortionScales(mx, k, &at, &an);
-    bw_interface_operator((int)mx->m, geom->length[k], geom->depth, mx->model->kt[k], mx->model->kn[k], w, d, &status);
+    bw_kernel_operator(2, (int)np, area, xi, eta, mx->model->kt[k], mx->model->kn[k], w, d, &status);
     PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
     if (tangent && mx->tangent)
       for (PetscInt p = 0; p < mx->m; p++) {

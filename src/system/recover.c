@@ -2,7 +2,7 @@
  *
  *   q = diag(S)^{-1/2} q~ (prescribed dofs take their values),  r = G^{-1/2} r~
  *   (r_p = r~_p (a_t, a_n) / A_p per portion, a = sqrt(A_p k))
- *   dG = R B q, (T, N, M) = H r            (kernels bw_interface_compatibility, _resultants)
+ *   dG = R B q, (T, N, M) = H r            (kernels bw_interface_compatibility, bw_kernel_resultants)
  *   reaction_b = (D^T r)_b - F_b  at prescribed dofs      (model.md)
  *
  * A rank needs the stresses of every interface touching its blocks and the
@@ -90,13 +90,14 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   PetscCall(VecGetArrayRead(loc, &a));
   n = 0;
   for (PetscInt e = 0; e < gh->nint; e++) {
-    PetscInt  k = gh->ints[e];
-    PetscReal at, an, ap = geom->depth * geom->length[k] / mx->m;
+    PetscInt         k = gh->ints[e];
+    PetscReal        skt, skn;
+    const PetscReal *isqa = mx->portions.inv_sqrt_area + BwPortionsFirst(&mx->portions, k);
     if (gh->roff[e] < 0) continue;
-    BwMixedPortionScales(mx, k, &at, &an);
+    BwMixedStiffnessRoots(mx, k, &skt, &skn);
     for (PetscInt p = 0; p < mx->m; p++) {
-      gh->r[gh->roff[e] + 2 * p]     = PetscRealPart(a[n + 2 * p]) * at / ap;
-      gh->r[gh->roff[e] + 2 * p + 1] = PetscRealPart(a[n + 2 * p + 1]) * an / ap;
+      gh->r[gh->roff[e] + 2 * p]     = PetscRealPart(a[n + 2 * p]) * skt * isqa[p];
+      gh->r[gh->roff[e] + 2 * p + 1] = PetscRealPart(a[n + 2 * p + 1]) * skn * isqa[p];
     }
     n += m2;
   }
@@ -149,11 +150,12 @@ static PetscErrorCode BwGhostStress(BwMixed mx, const BwGhosts *gh, PetscInt k, 
   if (gh->roff[loc] >= 0) PetscCall(PetscArraycpy(out, gh->r + gh->roff[loc], 2 * mx->m));
   else {
     const PetscScalar *src = gh->xl + (mx->krow_r[k] - mx->kstart);
-    PetscReal          at, an, ap = mx->geom->depth * mx->geom->length[k] / mx->m;
-    BwMixedPortionScales(mx, k, &at, &an);
+    const PetscReal   *isqa = mx->portions.inv_sqrt_area + BwPortionsFirst(&mx->portions, k);
+    PetscReal          skt, skn;
+    BwMixedStiffnessRoots(mx, k, &skt, &skn);
     for (PetscInt p = 0; p < mx->m; p++) {
-      out[2 * p]     = PetscRealPart(src[2 * p]) * at / ap;
-      out[2 * p + 1] = PetscRealPart(src[2 * p + 1]) * an / ap;
+      out[2 * p]     = PetscRealPart(src[2 * p]) * skt * isqa[p];
+      out[2 * p + 1] = PetscRealPart(src[2 * p + 1]) * skn * isqa[p];
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -190,7 +192,11 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBo
       dg[a] = 0;
       for (PetscInt c = 0; c < 3; c++) dg[a] += rb[6 * a + c] * qi[c] + rb[6 * a + 3 + c] * qj[c];
     }
-    bw_interface_resultants((int)m, geom->length[k], geom->depth, r, &res->resultant[3 * e], &status);
+    {
+      const PetscReal *area, *xi, *eta;
+      PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
+      bw_kernel_resultants(2, (int)np, area, xi, eta, r, &res->resultant[3 * e], &status);
+    }
     PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
   }
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
@@ -205,10 +211,12 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBo
      * from the stresses, whichever rank owns the interface */
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
       PetscInt  k = mx->adj[a], side = BwSide(mx, k, b);
-      PetscReal rb[18], h[3];
-      int       status;
+      PetscReal        rb[18], h[3];
+      const PetscReal *area, *xi, *eta;
+      PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
+      int              status;
       PetscCall(BwGhostStress(mx, &gh, k, work));
-      bw_interface_resultants((int)m, geom->length[k], geom->depth, work, h, &status);
+      bw_kernel_resultants(2, (int)np, area, xi, eta, work, h, &status);
       PetscCall(BwMixedCompatibility(mx, k, rb));
       for (PetscInt c = 0; c < 3; c++) f[c] += rb[side + c] * h[0] + rb[6 + side + c] * h[1] + rb[12 + side + c] * h[2];
     }

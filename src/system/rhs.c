@@ -6,7 +6,7 @@
  *   dof rows of block b:         diag(S)^{-1/2} F_b, 0 at prescribed dofs
  *                                (their identity rows keep them at zero)
  *
- * Both use the kernels that define D^ (bw_interface_jumps). */
+ * Both use the kernels that define D^ (bw_kernel_jumps). */
 #include "system/mixed_impl.h"
 #include "util/compat.h"
 #include "blockwall/kernels.h"
@@ -21,9 +21,11 @@ PetscErrorCode BwMixedFillRHS(BwMixed mx, const PetscReal load[], Vec b)
   PetscCall(VecGetArray(b, &bb));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
     PetscInt     k = mx->own_interfaces[e];
-    PetscReal    rb[18], v[6], dg[3] = {0, 0, 0}, at, an;
-    PetscScalar *y = bb + (mx->krow_r[k] - mx->kstart);
-    int          status;
+    PetscReal        rb[18], v[6], dg[3] = {0, 0, 0}, skt, skn;
+    const PetscReal *xi, *eta, *sqa;
+    PetscInt         np = BwMixedPortions(mx, k, NULL, &xi, &eta, &sqa);
+    PetscScalar     *y  = bb + (mx->krow_r[k] - mx->kstart);
+    int              status;
     PetscCall(BwMixedCompatibility(mx, k, rb));
     for (PetscInt c = 0; c < 6; c++) {
       PetscInt blk = g->pair[2 * k + c / 3];
@@ -31,12 +33,12 @@ PetscErrorCode BwMixedFillRHS(BwMixed mx, const PetscReal load[], Vec b)
     }
     for (PetscInt r = 0; r < 3; r++)
       for (PetscInt c = 0; c < 6; c++) dg[r] += rb[6 * r + c] * v[c];
-    bw_interface_jumps((int)mx->m, g->length[k], dg, y, &status);
+    bw_kernel_jumps(2, (int)np, xi, eta, dg, y, &status);
     PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
-    BwMixedPortionScales(mx, k, &at, &an);
-    for (PetscInt p = 0; p < mx->m; p++) {
-      y[2 * p]     = -at * y[2 * p];
-      y[2 * p + 1] = -an * y[2 * p + 1];
+    BwMixedStiffnessRoots(mx, k, &skt, &skn);
+    for (PetscInt p = 0; p < np; p++) {
+      y[2 * p]     = -sqa[p] * skt * y[2 * p];
+      y[2 * p + 1] = -sqa[p] * skn * y[2 * p + 1];
     }
   }
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {

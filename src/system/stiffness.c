@@ -4,7 +4,7 @@
  * Interface k contributes diag(s) (R B)^T K_G (R B) diag(s) to the rows of
  * its two blocks (s the dof scales, zero at prescribed dofs, whose rows are
  * identity rows), where K_G = sum_p A_p E_p^T C_p E_p condenses the
- * portions' tangents C_p (bw_interface_condense): exact, because the (r,r)
+ * portions' tangents C_p (bw_kernel_condense): exact, because the (r,r)
  * block of the scaled system is the identity. A rank assembles the rows of
  * its own blocks only, summing every interface touching them: K_G of an
  * elastic interface is computed where it is needed (the law's tangent is
@@ -58,7 +58,11 @@ static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal 
   PetscCall(BwModelInterfaceLaw(mx->model, k, &law, par));
   PetscCall(PetscSNPrintf(what, sizeof(what), "interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ")", k, g->pair[2 * k], g->pair[2 * k + 1]));
   PetscCall(BwJointLawEvaluate(law, par, 1, state, jump, stress, tangent, state_out, &mode, what));
-  bw_interface_condense((int)mx->m, g->length[k], g->depth, 1, tangent, kg, &status);
+  {
+    const PetscReal *area, *xi, *eta;
+    PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
+    bw_kernel_condense(2, (int)np, area, xi, eta, 1, tangent, kg, &status);
+  }
   PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on %s", what);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -66,8 +70,6 @@ static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal 
 /* K_G of every interface the rows need, into mx->kg. */
 static PetscErrorCode BwMixedCondense(BwMixed mx)
 {
-  BwGeometry g = mx->geom;
-
   PetscFunctionBeginUser;
   if (!mx->tangent) {
     for (PetscInt e = 0; e < mx->nkg; e++) PetscCall(BwMixedElasticStiffness(mx, mx->kg_interfaces[e], mx->kg + 9 * e));
@@ -91,10 +93,12 @@ static PetscErrorCode BwMixedCondense(BwMixed mx)
     const PetscScalar *gh;
     PetscCall(VecGetArray(mx->kg_owned, &o));
     for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-      PetscInt  k = mx->own_interfaces[e];
-      PetscReal kg[9];
-      int       status;
-      bw_interface_condense((int)mx->m, g->length[k], g->depth, (int)mx->m, mx->tangent + 4 * mx->m * e, kg, &status);
+      PetscInt         k = mx->own_interfaces[e];
+      PetscReal        kg[9];
+      const PetscReal *area, *xi, *eta;
+      PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
+      int              status;
+      bw_kernel_condense(2, (int)np, area, xi, eta, (int)np, mx->tangent + 4 * mx->m * e, kg, &status);
       PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
       for (PetscInt c = 0; c < 9; c++) o[9 * e + c] = kg[c];
     }
@@ -138,7 +142,7 @@ static PetscErrorCode BwMixedBlockRows(BwMixed mx, PetscInt b, PetscBool values,
     PetscCall(PetscFindInt(k, mx->nkg, mx->kg_interfaces, &loc));
     PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface %" PetscInt_FMT " not condensed", k);
     PetscCall(BwMixedCompatibility(mx, k, rb));
-    bw_interface_stiffness(rb, mx->kg + 9 * loc, s6, &status);
+    bw_kernel_stiffness(2, rb, mx->kg + 9 * loc, s6, &status);
     for (PetscInt c = 0; c < 6; c++) {
       PetscInt blk = g->pair[2 * k + c / 3];
       sc[c]        = mx->model->prescribed[3 * blk + c % 3] ? 0 : mx->qscale[3 * blk + c % 3];

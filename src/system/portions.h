@@ -1,0 +1,33 @@
+/* BwPortions: the portions of every interface (model.md, "Discretisation"
+ * and "Three dimensions"): per portion its area A_p, its centroid (xi_p,
+ * eta_p) from G along t and b, and sqrt(A_p) and 1/sqrt(A_p), which scale
+ * the stresses (the compliance G_p^-1/2 = sqrt(A_p) C^1/2).
+ *
+ * Interfaces of the same shape share one layout: a running-bond wall has as
+ * many layouts as distinct joint lengths, so a million interfaces cost one
+ * index each, and the kernels (bw_kernel_*) get the portions as arrays
+ * without building them at every call. */
+#pragma once
+#include <petscsys.h>
+
+typedef struct {
+  PetscInt   dim;         /* 2 | 3 */
+  PetscInt   ninterfaces, nlayouts, maxnp;
+  PetscInt  *layout;      /* per interface: its layout */
+  PetscInt  *offsets;     /* per layout: its portions offsets[l]..offsets[l+1]-1 */
+  PetscReal *area, *xi, *eta, *sqrt_area, *inv_sqrt_area;
+} BwPortions;
+
+/* 2D: the interfaces of lengths length[k], depth s, each cut into m equal
+ * portions (the rectangle l x s in one row); one layout per distinct length.
+ * pair[2k], pair[2k+1]: the blocks of interface k, for the message. */
+PetscErrorCode BwPortionsCreate2D(PetscInt ninterfaces, const PetscInt pair[], const PetscReal length[], PetscReal depth, PetscInt m, BwPortions *P);
+PetscErrorCode BwPortionsDestroy(BwPortions *P);
+
+/* Interface k's portions: their number and the first of the arrays. */
+static inline PetscInt BwPortionsCount(const BwPortions *P, PetscInt k)
+{
+  PetscInt l = P->layout[k];
+  return P->offsets[l + 1] - P->offsets[l];
+}
+static inline PetscInt BwPortionsFirst(const BwPortions *P, PetscInt k) { return P->offsets[P->layout[k]]; }
