@@ -41,6 +41,7 @@ PetscErrorCode BwGeometryCreate(MPI_Comm comm, BwGeometry *geom)
   PetscFunctionBeginUser;
   PetscCall(PetscNew(geom));
   (*geom)->comm  = comm;
+  (*geom)->dim   = 2;
   (*geom)->depth = 0.1;
   PetscCall(PetscMalloc1(1, &(*geom)->offsets));
   (*geom)->offsets[0] = 0;

@@ -19,6 +19,7 @@ typedef struct _n_BwGeometry  *BwGeometry;
 typedef struct _n_BwGenerator *BwGenerator;
 struct _n_BwGeometry {
   MPI_Comm   comm;
+  PetscInt   dim;   /* 2 (polygons in X1-X2, depth s along X3) | 3 */
   PetscReal  depth; /* s [m] */
   /* blocks */
   PetscInt   nblocks;

@@ -13,21 +13,31 @@
 
 const char *const BwStorages[] = {"shell", "nest", "aij", "BwStorage", "BW_STORAGE_", NULL};
 
-static PetscBool BwHasUnknowns(BwModel model, PetscInt b)
+static PetscBool BwHasUnknowns(BwMixed mx, PetscInt b)
 {
-  return (PetscBool)!(model->prescribed[3 * b] && model->prescribed[3 * b + 1] && model->prescribed[3 * b + 2]);
+  for (PetscInt c = 0; c < mx->nd; c++)
+    if (!mx->model->prescribed[mx->nd * b + c]) return PETSC_TRUE;
+  return PETSC_FALSE;
 }
 
-PetscErrorCode BwMixedCompatibility(BwMixed mx, PetscInt k, PetscReal rb[18])
+PetscErrorCode BwMixedCompatibility(BwMixed mx, PetscInt k, PetscReal rb[])
 {
   BwGeometry     g = mx->geom;
-  const PetscInt i = g->pair[2 * k], j = g->pair[2 * k + 1];
+  const PetscInt i = g->pair[2 * k], j = g->pair[2 * k + 1], d = g->dim;
   int            status;
 
   PetscFunctionBeginUser;
-  bw_interface_compatibility(&g->centroid[2 * i], &g->centroid[2 * j], &g->center[2 * k], g->angle[k], rb, &status);
+  bw_interface_compatibility(&g->centroid[d * i], &g->centroid[d * j], &g->center[d * k], g->angle[k], rb, &status);
   PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void BwMixedElasticTangent(BwMixed mx, PetscInt k, PetscReal c[])
+{
+  const PetscReal kt = mx->model->kt[k], kn = mx->model->kn[k];
+  const PetscInt  ns = mx->ns;
+  for (PetscInt a = 0; a < ns * ns; a++) c[a] = 0;
+  for (PetscInt a = 0; a < ns; a++) c[a * (ns + 1)] = a == 1 ? kn : kt;
 }
 
 void BwMixedStiffnessRoots(BwMixed mx, PetscInt k, PetscReal *skt, PetscReal *skn)
@@ -48,7 +58,7 @@ static PetscErrorCode BwMixedScales(BwMixed mx)
   PetscBool *need;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(3 * g->nblocks, &mx->qscale));
+  PetscCall(PetscMalloc1(mx->nd * g->nblocks, &mx->qscale));
   PetscCall(PetscCalloc1(g->nblocks, &need));
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt b = mx->own_blocks[e];
@@ -57,20 +67,22 @@ static PetscErrorCode BwMixedScales(BwMixed mx)
   }
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) need[g->pair[2 * mx->own_interfaces[e]]] = need[g->pair[2 * mx->own_interfaces[e] + 1]] = PETSC_TRUE;
   for (PetscInt b = 0; b < g->nblocks; b++) {
-    PetscReal diag[3] = {0, 0, 0};
+    const PetscInt nd = mx->nd;
+    PetscReal      diag[BW_MAX_ND] = {0};
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1] && need[b]; a++) {
       PetscInt  k = mx->adj[a], side = BwSide(mx, k, b);
-      PetscReal        rb[18], kg[9], s[36], c[4] = {mx->model->kt[k], 0, 0, mx->model->kn[k]};
+      PetscReal        rb[2 * BW_MAX_ND * BW_MAX_ND], kg[BW_MAX_ND * BW_MAX_ND], s[4 * BW_MAX_ND * BW_MAX_ND], c[BW_MAX_NS * BW_MAX_NS];
       const PetscReal *area, *xi, *eta;
       PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
       int              status;
+      BwMixedElasticTangent(mx, k, c);
       PetscCall(BwMixedCompatibility(mx, k, rb));
-      bw_kernel_condense(2, (int)np, area, xi, eta, 1, c, kg, &status);
+      bw_kernel_condense((int)mx->dim, (int)np, area, xi, eta, 1, c, kg, &status);
       PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
-      bw_kernel_stiffness(2, rb, kg, s, &status);
-      for (PetscInt c3 = 0; c3 < 3; c3++) diag[c3] += s[(side + c3) * 7];
+      bw_kernel_stiffness((int)mx->dim, rb, kg, s, &status);
+      for (PetscInt c3 = 0; c3 < nd; c3++) diag[c3] += s[(side + c3) * (2 * nd + 1)];
     }
-    for (PetscInt c3 = 0; c3 < 3; c3++) mx->qscale[3 * b + c3] = !mx->model->prescribed[3 * b + c3] && diag[c3] > 0 ? 1 / PetscSqrtReal(diag[c3]) : 1;
+    for (PetscInt c3 = 0; c3 < nd; c3++) mx->qscale[nd * b + c3] = !mx->model->prescribed[nd * b + c3] && diag[c3] > 0 ? 1 / PetscSqrtReal(diag[c3]) : 1;
   }
   PetscCall(PetscFree(need));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -80,7 +92,7 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
 {
   BwMixed     mx;
   BwGeometry  geom = model->geom;
-  PetscInt    nb = geom->nblocks, ni = geom->ninterfaces, m2;
+  PetscInt    nb = geom->nblocks, ni = geom->ninterfaces;
   PetscMPIInt size, rank;
   PetscInt   *nr, *nq, *knext, *qnext, *rnext, *krnext;
 
@@ -91,7 +103,9 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
   mx->model = model;
   mx->spring_block = -1;
   mx->m     = model->m;
-  m2        = 2 * mx->m;
+  mx->dim   = geom->dim;
+  mx->nd    = geom->dim == 3 ? 6 : 3;
+  mx->ns    = geom->dim == 3 ? 3 : 2;
   PetscCallMPI(MPI_Comm_size(mx->comm, &size));
   PetscCallMPI(MPI_Comm_rank(mx->comm, &rank));
 
@@ -132,14 +146,14 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
   }
   for (PetscInt k = 0; k < ni; k++) {
     PetscInt i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
-    mx->interface_owner[k] = mx->block_owner[BwHasUnknowns(model, i) ? i : j];
+    mx->interface_owner[k] = mx->block_owner[BwHasUnknowns(mx, i) ? i : j];
   }
 
   /* numbering: rank p's rows of K are [its stresses | its blocks' dofs] */
   PetscCall(PetscCalloc6(size + 1, &nr, size + 1, &nq, size, &knext, size, &qnext, size, &rnext, size, &krnext));
-  for (PetscInt k = 0; k < ni; k++) nr[mx->interface_owner[k]] += m2;
+  for (PetscInt k = 0; k < ni; k++) nr[mx->interface_owner[k]] += mx->ns * BwPortionsCount(&mx->portions, k);
   for (PetscInt b = 0; b < nb; b++)
-    if (BwHasUnknowns(model, b)) nq[mx->block_owner[b]] += 3;
+    if (BwHasUnknowns(mx, b)) nq[mx->block_owner[b]] += mx->nd;
   {
     PetscInt start = 0;
     for (PetscMPIInt p = 0; p < size; p++) {
@@ -165,17 +179,17 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     PetscMPIInt p = mx->interface_owner[k];
     mx->krow_r[k] = krnext[p];
     mx->rrow[k]   = rnext[p];
-    krnext[p] += m2;
-    rnext[p] += m2;
+    krnext[p] += mx->ns * BwPortionsCount(&mx->portions, k);
+    rnext[p] += mx->ns * BwPortionsCount(&mx->portions, k);
     if (p == rank) mx->nown_interfaces++;
   }
   for (PetscInt b = 0; b < nb; b++) {
     PetscMPIInt p = mx->block_owner[b];
-    if (BwHasUnknowns(model, b)) {
+    if (BwHasUnknowns(mx, b)) {
       mx->krow_q[b] = knext[p];
       mx->qrow[b]   = qnext[p];
-      knext[p] += 3;
-      qnext[p] += 3;
+      knext[p] += mx->nd;
+      qnext[p] += mx->nd;
       if (p == rank) mx->nown_q++;
     } else mx->krow_q[b] = mx->qrow[b] = -1;
     if (p == rank) mx->nown_blocks++;
@@ -288,77 +302,114 @@ PetscErrorCode BwMixedGetModel(BwMixed mx, BwModel *model)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Rigid motion r of the assembly (r < dim translations, then rotations
+ * about X3 in 2D, about X1, X2, X3 in 3D, about x0) at block b: its dofs u[nd]. */
+void BwMixedRigidMotion(BwMixed mx, PetscInt r, PetscInt b, const PetscReal x0[], PetscReal u[])
+{
+  const PetscInt   d = mx->dim, nd = mx->nd, nt = d; /* translations */
+  const PetscReal *c = &mx->geom->centroid[d * b];
+  PetscReal        w[3] = {0, 0, 0}, arm[3] = {0, 0, 0};
+
+  for (PetscInt a = 0; a < nd; a++) u[a] = 0;
+  if (r < nt) {
+    u[r] = 1;
+    return;
+  }
+  if (d == 2) w[2] = 1;
+  else w[r - nt] = 1;
+  for (PetscInt a = 0; a < d; a++) arm[a] = c[a] - x0[a];
+  /* translation of the centroid w x arm, then the rotation itself */
+  {
+    PetscReal t[3] = {w[1] * arm[2] - w[2] * arm[1], w[2] * arm[0] - w[0] * arm[2], w[0] * arm[1] - w[1] * arm[0]};
+    for (PetscInt a = 0; a < d; a++) u[a] = t[a];
+    if (d == 2) u[2] = 1;
+    else
+      for (PetscInt a = 0; a < 3; a++) u[3 + a] = w[a];
+  }
+}
+
+PetscErrorCode BwMixedInterfaceSlots(BwMixed mx, PetscInt slot[])
+{
+  PetscInt    ni = mx->geom->ninterfaces, *next, *index;
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(mx->comm, &size));
+  PetscCall(PetscCalloc2(size + 1, &next, ni + 1, &index));
+  for (PetscInt k = 0; k < ni; k++) next[mx->interface_owner[k] + 1]++;
+  for (PetscMPIInt p = 0; p < size; p++) next[p + 1] += next[p];
+  for (PetscInt k = 0; k < ni; k++) index[k] = next[mx->interface_owner[k]]++;
+  for (PetscInt e = 0; e < mx->nkg; e++) slot[e] = index[mx->kg_interfaces[e]];
+  PetscCall(PetscFree2(next, index));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwMixedSetNearNullSpace(BwMixed mx)
 {
-  Vec          v[3];
-  MatNullSpace nsp;
-  BwGeometry   geom = mx->geom;
-  PetscReal    x0[2] = {0, 0};
-  PetscScalar *a[3];
+  const PetscInt nrig = mx->nd; /* 3 rigid motions in 2D, 6 in 3D */
+  Vec            v[BW_MAX_ND] = {NULL};
+  MatNullSpace   nsp;
+  BwGeometry     geom = mx->geom;
+  PetscReal      x0[3] = {0, 0, 0};
+  PetscScalar   *a[BW_MAX_ND];
 
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < geom->nblocks; b++)
-    for (PetscInt c = 0; c < 2; c++) x0[c] += geom->centroid[2 * b + c] / geom->nblocks;
-  for (PetscInt r = 0; r < 3; r++) {
+    for (PetscInt c = 0; c < geom->dim; c++) x0[c] += geom->centroid[geom->dim * b + c] / geom->nblocks;
+  for (PetscInt r = 0; r < nrig; r++) {
     PetscCall(MatCreateVecs(mx->S, &v[r], NULL));
     PetscCall(VecGetArray(v[r], &a[r]));
   }
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-    PetscInt b = mx->own_blocks[e], row = mx->qrow[b] - mx->qstart;
+    PetscInt b = mx->own_blocks[e], row = mx->qrow[b] - mx->qstart, nd = mx->nd;
     if (mx->qrow[b] < 0) continue;
-    for (PetscInt r = 0; r < 3; r++) {
-      PetscReal u[3];
-      if (r < 2) {
-        u[0] = r == 0;
-        u[1] = r == 1;
-        u[2] = 0;
-      } else {
-        u[0] = -(geom->centroid[2 * b + 1] - x0[1]);
-        u[1] = geom->centroid[2 * b] - x0[0];
-        u[2] = 1;
-      }
+    for (PetscInt r = 0; r < nrig; r++) {
+      PetscReal u[BW_MAX_ND];
+      BwMixedRigidMotion(mx, r, b, x0, u);
       /* q~ = diag(S)^{1/2} q; prescribed dofs do not move */
-      for (PetscInt c = 0; c < 3; c++) a[r][row + c] = mx->model->prescribed[3 * b + c] ? 0 : u[c] / mx->qscale[3 * b + c];
+      for (PetscInt c = 0; c < nd; c++) a[r][row + c] = mx->model->prescribed[nd * b + c] ? 0 : u[c] / mx->qscale[nd * b + c];
     }
   }
-  for (PetscInt r = 0; r < 3; r++) PetscCall(VecRestoreArray(v[r], &a[r]));
+  for (PetscInt r = 0; r < nrig; r++) PetscCall(VecRestoreArray(v[r], &a[r]));
   /* MatNullSpaceCreate wants orthonormal vectors */
   PetscCall(VecNormalize(v[0], NULL));
-  for (PetscInt r = 1; r < 3; r++) {
-    PetscScalar dots[2];
+  for (PetscInt r = 1; r < nrig; r++) {
+    PetscScalar dots[BW_MAX_ND];
     PetscCall(VecMDot(v[r], r, v, dots));
     for (PetscInt j = 0; j < r; j++) dots[j] = -dots[j];
     PetscCall(VecMAXPY(v[r], r, dots, v));
     PetscCall(VecNormalize(v[r], NULL));
   }
-  PetscCall(MatNullSpaceCreate(mx->comm, PETSC_FALSE, 3, v, &nsp));
+  PetscCall(MatNullSpaceCreate(mx->comm, PETSC_FALSE, nrig, v, &nsp));
   PetscCall(MatSetNearNullSpace(mx->S, nsp));
   PetscCall(MatNullSpaceDestroy(&nsp));
-  for (PetscInt r = 0; r < 3; r++) PetscCall(VecDestroy(&v[r]));
+  for (PetscInt r = 0; r < nrig; r++) PetscCall(VecDestroy(&v[r]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwMixedForwardWeights(BwMixed mx, Vec weight, PetscReal *prescribed)
 {
   BwGeometry   geom = mx->geom;
-  PetscReal    lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, size, pmax = 0;
-  PetscScalar *w;
+  const PetscInt d = geom->dim, nd = mx->nd;
+  PetscReal      lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, PETSC_MIN_REAL}, size = 0, pmax = 0;
+  PetscScalar   *w;
 
   PetscFunctionBeginUser;
   for (PetscInt v = 0; v < geom->nvertices; v++)
-    for (PetscInt c = 0; c < 2; c++) {
-      lo[c] = PetscMin(lo[c], geom->vertices[2 * v + c]);
-      hi[c] = PetscMax(hi[c], geom->vertices[2 * v + c]);
+    for (PetscInt c = 0; c < d; c++) {
+      lo[c] = PetscMin(lo[c], geom->vertices[d * v + c]);
+      hi[c] = PetscMax(hi[c], geom->vertices[d * v + c]);
     }
-  size = PetscSqrtReal(PetscSqr(hi[0] - lo[0]) + PetscSqr(hi[1] - lo[1]));
+  for (PetscInt c = 0; c < d; c++) size += PetscSqr(hi[c] - lo[c]);
+  size = PetscSqrtReal(size);
   PetscCall(VecGetArray(weight, &w));
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt b = mx->own_blocks[e];
-    for (PetscInt c = 0; c < 3; c++) {
-      PetscReal arm = c == 2 ? size : 1;
+    for (PetscInt c = 0; c < nd; c++) {
+      PetscReal arm = c >= d ? size : 1; /* the dofs after the translations are rotations */
       /* q = diag(S)^-1/2 q~; rotations times the assembly's size */
-      if (mx->qrow[b] >= 0) w[mx->qrow[b] - mx->qstart + c] = mx->model->prescribed[3 * b + c] ? 0 : mx->qscale[3 * b + c] * arm;
-      if (mx->model->prescribed[3 * b + c]) pmax = PetscMax(pmax, PetscAbsReal(mx->model->value[3 * b + c]) * arm);
+      if (mx->qrow[b] >= 0) w[mx->qrow[b] - mx->qstart + c] = mx->model->prescribed[nd * b + c] ? 0 : mx->qscale[nd * b + c] * arm;
+      if (mx->model->prescribed[nd * b + c]) pmax = PetscMax(pmax, PetscAbsReal(mx->model->value[nd * b + c]) * arm);
     }
   }
   PetscCall(VecRestoreArray(weight, &w));

@@ -13,10 +13,16 @@ typedef struct {
   PetscReal *dv, *ov;
 } BwCSRValues;
 
+/* Sizes per dimension (model.md, "Three dimensions"): dofs per block, and
+ * as many components of dG; stress components per portion. */
+#define BW_MAX_ND 6
+#define BW_MAX_NS 3
+
 struct _n_BwMixed {
   MPI_Comm   comm;
   BwGeometry geom;
   BwModel    model;
+  PetscInt   dim, nd, ns; /* 2, 3, 2 | 3, 6, 3 */
   PetscInt   m;
   BwPortions portions; /* of every interface: areas and centroids, shared by shape */
   /* layout (replicated): owner rank of each block and interface; per block
@@ -55,10 +61,18 @@ struct _n_BwMixed {
   Vec        kg_owned, kg_ghost;
 };
 
-/* Column offset (0 or 3) of block b in interface k's 6 columns. */
-static inline PetscInt BwSide(BwMixed mx, PetscInt k, PetscInt b) { return mx->geom->pair[2 * k] == b ? 0 : 3; }
-/* R B of interface k (rb[3][6]); PETSC_ERR_PLIB on a kernel failure. */
-PetscErrorCode BwMixedCompatibility(BwMixed mx, PetscInt k, PetscReal rb[18]);
+/* Column offset (0 or nd) of block b in interface k's 2 nd columns. */
+static inline PetscInt BwSide(BwMixed mx, PetscInt k, PetscInt b) { return mx->geom->pair[2 * k] == b ? 0 : mx->nd; }
+/* R B of interface k (rb[nd][2 nd]); PETSC_ERR_PLIB on a kernel failure. */
+PetscErrorCode BwMixedCompatibility(BwMixed mx, PetscInt k, PetscReal rb[]);
+/* For each interface of mx->kg_interfaces, its index among all interfaces
+ * numbered rank after rank (the owners' order of the K_G vector). */
+PetscErrorCode BwMixedInterfaceSlots(BwMixed mx, PetscInt slot[]);
+/* Rigid motion r of the assembly (translations along the axes, then
+ * rotations: about X3 in 2D, X1, X2, X3 in 3D) about x0 at block b (u[nd]). */
+void BwMixedRigidMotion(BwMixed mx, PetscInt r, PetscInt b, const PetscReal x0[], PetscReal u[]);
+/* Interface k's elastic tangent C = diag(kt, kn[, kt]) (c[ns][ns]). */
+void BwMixedElasticTangent(BwMixed mx, PetscInt k, PetscReal c[]);
 /* Interface k's square roots of its scaling stiffness, sqrt(kt) and sqrt(kn):
  * portion p's stresses are scaled by sqrt(A_p) times them. */
 void BwMixedStiffnessRoots(BwMixed mx, PetscInt k, PetscReal *skt, PetscReal *skn);

@@ -19,7 +19,7 @@ PetscErrorCode BwMixedResidual(BwMixed mx, Vec x, Vec b, BwPortionLawFn law, voi
   PetscScalar *f;
   const PetscScalar *r;
   PetscReal   *jump, *sigma;
-  PetscInt     m2 = 2 * mx->m;
+  const PetscInt ns = mx->ns;
 
   PetscFunctionBeginUser;
   PetscCall(VecGetSubVector(x, mx->isr, &xr));
@@ -31,26 +31,24 @@ PetscErrorCode BwMixedResidual(BwMixed mx, Vec x, Vec b, BwPortionLawFn law, voi
   /* scaled jumps, then per interface: the law, and F_r in place */
   PetscCall(MatMult(mx->D, xq, fr));
   PetscCall(VecAXPY(fr, -1.0, br));
-  PetscCall(PetscMalloc2(m2, &jump, m2, &sigma));
+  PetscCall(PetscMalloc2(ns * mx->portions.maxnp, &jump, ns * mx->portions.maxnp, &sigma));
   PetscCall(VecGetArray(fr, &f));
   PetscCall(VecGetArrayRead(xr, &r));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt     k  = mx->own_interfaces[e];
-    PetscScalar *fk = f + m2 * e;
-    PetscReal        skt, skn;
-    const PetscReal *sqa;
-    PetscInt         np = BwMixedPortions(mx, k, NULL, NULL, NULL, &sqa);
-    /* the scaled jump is sqrt(A_p) C^1/2 j, the scaled stress r / (sqrt(A_p) C^1/2) ... times A_p */
+    PetscInt           k  = mx->own_interfaces[e], off = mx->rrow[k] - mx->rstart;
+    PetscScalar       *fk = f + off;
+    const PetscScalar *rk = r + off;
+    PetscReal          skt, skn;
+    const PetscReal   *sqa;
+    PetscInt           np = BwMixedPortions(mx, k, NULL, NULL, NULL, &sqa);
+    /* D^ q is sqrt(A_p) C^1/2 j per portion; the law's stress enters the
+     * scaled compatibility row as sqrt(A_p) C^-1/2 sigma */
     BwMixedStiffnessRoots(mx, k, &skt, &skn);
-    for (PetscInt p = 0; p < np; p++) {
-      jump[2 * p]     = PetscRealPart(fk[2 * p]) / (sqa[p] * skt);
-      jump[2 * p + 1] = PetscRealPart(fk[2 * p + 1]) / (sqa[p] * skn);
-    }
+    for (PetscInt p = 0; p < np; p++)
+      for (PetscInt a = 0; a < ns; a++) jump[ns * p + a] = PetscRealPart(fk[ns * p + a]) / (sqa[p] * (a == 1 ? skn : skt));
     PetscCall(law(ctx, e, k, jump, sigma));
-    for (PetscInt p = 0; p < np; p++) {
-      fk[2 * p]     = -r[m2 * e + 2 * p] + sqa[p] * sigma[2 * p] / skt;
-      fk[2 * p + 1] = -r[m2 * e + 2 * p + 1] + sqa[p] * sigma[2 * p + 1] / skn;
-    }
+    for (PetscInt p = 0; p < np; p++)
+      for (PetscInt a = 0; a < ns; a++) fk[ns * p + a] = -rk[ns * p + a] + sqa[p] * sigma[ns * p + a] / (a == 1 ? skn : skt);
   }
   PetscCall(VecRestoreArrayRead(xr, &r));
   PetscCall(VecRestoreArray(fr, &f));

@@ -21,7 +21,9 @@
 
 typedef struct {
   PetscInt   m, n;    /* most portions of an interface; owned interfaces */
-  PetscReal *w;       /* 18 per interface: W_k row-major (t, n, phi) x 6 */
+  int        dim;     /* 2 | 3: nd = 3 | 6 dofs, ns = 2 | 3 stresses */
+  PetscInt   nd, ns;
+  PetscReal *w;       /* 2 nd^2 per interface: W_k row-major nd x 2 nd */
   PetscInt  *col;     /* 2 per interface: first dof of block i, j: local q index, nq_local + ghost index, or -1 */
   PetscReal *skt, *skn; /* per interface: sqrt(kt), sqrt(kn) */
   PetscInt  *first, *np, *row; /* per interface: its first portion in the table, its portions, its first row of y */
@@ -46,6 +48,60 @@ static PetscErrorCode BwDShellDestroy(Mat A)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The products' loops, written once for nd dofs and ns stresses and
+ * inlined with the dimension's constants, so that 2D keeps its unrolled
+ * loops. */
+static inline void BwDShellMultLoop(BwDShell *ctx, const PetscScalar *ql, const PetscScalar *qg, PetscScalar *yy, const int dim, const PetscInt nd, const PetscInt ns)
+{
+  for (PetscInt e = 0; e < ctx->n; e++) {
+    const PetscReal *w = ctx->w + 2 * nd * nd * e, *sqa = ctx->portions->sqrt_area + ctx->first[e];
+    const PetscReal *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
+    PetscReal        dg[BW_MAX_ND] = {0}, sk[BW_MAX_NS];
+    PetscScalar     *ye = yy + ctx->row[e];
+    int              status;
+    for (PetscInt s = 0; s < 2; s++) {
+      PetscInt           c = ctx->col[2 * e + s];
+      const PetscScalar *x;
+      if (c < 0) continue;
+      x = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
+      for (PetscInt f = 0; f < nd; f++) {
+        PetscReal v = PetscRealPart(x[f]);
+        for (PetscInt r = 0; r < nd; r++) dg[r] += w[2 * nd * r + nd * s + f] * v;
+      }
+    }
+    bw_kernel_jumps(dim, (int)ctx->np[e], xi, eta, dg, ye, &status);
+    for (PetscInt a = 0; a < ns; a++) sk[a] = a == 1 ? ctx->skn[e] : ctx->skt[e];
+    for (PetscInt p = 0; p < ctx->np[e]; p++)
+      for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sqa[p] * sk[a];
+  }
+}
+
+static inline void BwDShellMultTransposeLoop(BwDShell *ctx, const PetscScalar *yy, PetscScalar *ql, PetscScalar *qg, const int dim, const PetscInt nd, const PetscInt ns)
+{
+  for (PetscInt e = 0; e < ctx->n; e++) {
+    const PetscReal   *w = ctx->w + 2 * nd * nd * e, *isqa = ctx->portions->inv_sqrt_area + ctx->first[e];
+    const PetscReal   *area = ctx->portions->area + ctx->first[e], *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
+    const PetscScalar *ye = yy + ctx->row[e];
+    PetscReal          f[BW_MAX_ND], sk[BW_MAX_NS];
+    int                status;
+    for (PetscInt a = 0; a < ns; a++) sk[a] = a == 1 ? ctx->skn[e] : ctx->skt[e];
+    for (PetscInt p = 0; p < ctx->np[e]; p++)
+      for (PetscInt a = 0; a < ns; a++) ctx->work[ns * p + a] = sk[a] * isqa[p] * PetscRealPart(ye[ns * p + a]);
+    bw_kernel_resultants(dim, (int)ctx->np[e], area, xi, eta, ctx->work, f, &status);
+    for (PetscInt s = 0; s < 2; s++) {
+      PetscInt     c = ctx->col[2 * e + s];
+      PetscScalar *x;
+      if (c < 0) continue;
+      x = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
+      for (PetscInt g = 0; g < nd; g++) {
+        PetscReal acc = 0;
+        for (PetscInt r = 0; r < nd; r++) acc += w[2 * nd * r + nd * s + g] * f[r];
+        x[g] += acc;
+      }
+    }
+  }
+}
+
 static PetscErrorCode BwDShellMult(Mat A, Vec q, Vec y)
 {
   BwDShell          *ctx;
@@ -61,30 +117,8 @@ static PetscErrorCode BwDShellMult(Mat A, Vec q, Vec y)
   }
   PetscCall(VecGetArrayRead(q, &ql));
   PetscCall(VecGetArray(y, &yy));
-  for (PetscInt e = 0; e < ctx->n; e++) {
-    const PetscReal *w  = ctx->w + 18 * e, *sqa = ctx->portions->sqrt_area + ctx->first[e];
-    const PetscReal *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
-    PetscReal        dg[3] = {0, 0, 0};
-    PetscScalar     *ye    = yy + ctx->row[e];
-    int              status;
-    for (PetscInt s = 0; s < 2; s++) {
-      PetscInt           c = ctx->col[2 * e + s];
-      const PetscScalar *x;
-      if (c < 0) continue;
-      x = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
-      for (PetscInt f = 0; f < 3; f++) {
-        PetscReal v = PetscRealPart(x[f]);
-        dg[0] += w[3 * s + f] * v;
-        dg[1] += w[6 + 3 * s + f] * v;
-        dg[2] += w[12 + 3 * s + f] * v;
-      }
-    }
-    bw_kernel_jumps(2, (int)ctx->np[e], xi, eta, dg, ye, &status);
-    for (PetscInt p = 0; p < ctx->np[e]; p++) {
-      ye[2 * p] *= sqa[p] * ctx->skt[e];
-      ye[2 * p + 1] *= sqa[p] * ctx->skn[e];
-    }
-  }
+  if (ctx->dim == 2) BwDShellMultLoop(ctx, ql, qg, yy, 2, 3, 2);
+  else BwDShellMultLoop(ctx, ql, qg, yy, 3, 6, 3);
   PetscCall(VecRestoreArray(y, &yy));
   PetscCall(VecRestoreArrayRead(q, &ql));
   if (ctx->scatter) PetscCall(VecRestoreArrayRead(ctx->ghost, &qg));
@@ -106,25 +140,8 @@ static PetscErrorCode BwDShellMultTransposeAdd(Mat A, Vec y, Vec q0, Vec q)
   }
   PetscCall(VecGetArray(q, &ql));
   PetscCall(VecGetArrayRead(y, &yy));
-  for (PetscInt e = 0; e < ctx->n; e++) {
-    const PetscReal   *w  = ctx->w + 18 * e, *isqa = ctx->portions->inv_sqrt_area + ctx->first[e];
-    const PetscReal   *area = ctx->portions->area + ctx->first[e], *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
-    const PetscScalar *ye = yy + ctx->row[e];
-    PetscReal          f3[3];
-    int                status;
-    for (PetscInt p = 0; p < ctx->np[e]; p++) {
-      ctx->work[2 * p]     = ctx->skt[e] * isqa[p] * PetscRealPart(ye[2 * p]);
-      ctx->work[2 * p + 1] = ctx->skn[e] * isqa[p] * PetscRealPart(ye[2 * p + 1]);
-    }
-    bw_kernel_resultants(2, (int)ctx->np[e], area, xi, eta, ctx->work, f3, &status);
-    for (PetscInt s = 0; s < 2; s++) {
-      PetscInt     c = ctx->col[2 * e + s];
-      PetscScalar *x;
-      if (c < 0) continue;
-      x = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
-      for (PetscInt f = 0; f < 3; f++) x[f] += w[3 * s + f] * f3[0] + w[6 + 3 * s + f] * f3[1] + w[12 + 3 * s + f] * f3[2];
-    }
-  }
+  if (ctx->dim == 2) BwDShellMultTransposeLoop(ctx, yy, ql, qg, 2, 3, 2);
+  else BwDShellMultTransposeLoop(ctx, yy, ql, qg, 3, 6, 3);
   PetscCall(VecRestoreArrayRead(y, &yy));
   PetscCall(VecRestoreArray(q, &ql));
   if (ctx->scatter) {
@@ -144,16 +161,17 @@ static PetscErrorCode BwDShellMultTranspose(Mat A, Vec y, Vec q)
 }
 
 /* W_k = R B diag(s), with the columns of prescribed dofs zero. */
-static PetscErrorCode BwMixedScaledCompatibility(BwMixed mx, PetscInt k, PetscReal w[18])
+static PetscErrorCode BwMixedScaledCompatibility(BwMixed mx, PetscInt k, PetscReal w[])
 {
-  PetscReal rb[18];
+  const PetscInt nd = mx->nd;
+  PetscReal      rb[2 * BW_MAX_ND * BW_MAX_ND];
 
   PetscFunctionBeginUser;
   PetscCall(BwMixedCompatibility(mx, k, rb));
-  for (PetscInt c = 0; c < 6; c++) {
-    PetscInt  b = mx->geom->pair[2 * k + c / 3];
-    PetscReal s = mx->model->prescribed[3 * b + c % 3] ? 0 : mx->qscale[3 * b + c % 3];
-    for (PetscInt r = 0; r < 3; r++) w[6 * r + c] = rb[6 * r + c] * s;
+  for (PetscInt c = 0; c < 2 * nd; c++) {
+    PetscInt  b = mx->geom->pair[2 * k + c / nd];
+    PetscReal s = mx->model->prescribed[nd * b + c % nd] ? 0 : mx->qscale[nd * b + c % nd];
+    for (PetscInt r = 0; r < nd; r++) w[2 * nd * r + c] = rb[2 * nd * r + c] * s;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -170,8 +188,11 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
   ctx->n        = mx->nown_interfaces;
   ctx->nq_local = mx->nq_local;
   ctx->portions = &mx->portions;
-  PetscCall(PetscMalloc4(18 * ctx->n + 1, &ctx->w, 2 * ctx->n + 1, &ctx->col, ctx->n + 1, &ctx->skt, ctx->n + 1, &ctx->skn));
-  PetscCall(PetscMalloc4(ctx->n + 1, &ctx->first, ctx->n + 1, &ctx->np, ctx->n + 1, &ctx->row, 2 * mx->portions.maxnp, &ctx->work));
+  ctx->dim = (int)mx->dim;
+  ctx->nd  = mx->nd;
+  ctx->ns  = mx->ns;
+  PetscCall(PetscMalloc4(2 * mx->nd * mx->nd * ctx->n + 1, &ctx->w, 2 * ctx->n + 1, &ctx->col, ctx->n + 1, &ctx->skt, ctx->n + 1, &ctx->skn));
+  PetscCall(PetscMalloc4(ctx->n + 1, &ctx->first, ctx->n + 1, &ctx->np, ctx->n + 1, &ctx->row, mx->ns * mx->portions.maxnp, &ctx->work));
   /* blocks owned elsewhere, by their first q row, sorted and unique: the ghost layout */
   PetscCall(PetscMalloc1(2 * ctx->n + 1, &ghosts));
   for (PetscInt e = 0; e < ctx->n; e++) {
@@ -184,20 +205,20 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
   PetscCall(PetscSortRemoveDupsInt(&nghost, ghosts));
   for (PetscInt e = 0; e < ctx->n; e++) {
     PetscInt k = mx->own_interfaces[e];
-    PetscCall(BwMixedScaledCompatibility(mx, k, ctx->w + 18 * e));
+    PetscCall(BwMixedScaledCompatibility(mx, k, ctx->w + 2 * mx->nd * mx->nd * e));
     for (PetscInt s = 0; s < 2; s++) {
       PetscInt r = mx->qrow[geom->pair[2 * k + s]], gi;
       if (r < 0) ctx->col[2 * e + s] = -1;
       else if (r >= mx->qstart && r < qend) ctx->col[2 * e + s] = r - mx->qstart;
       else {
         PetscCall(PetscFindInt(r, nghost, ghosts, &gi));
-        ctx->col[2 * e + s] = mx->nq_local + 3 * gi;
+        ctx->col[2 * e + s] = mx->nq_local + mx->nd * gi;
       }
     }
     BwMixedStiffnessRoots(mx, k, &ctx->skt[e], &ctx->skn[e]);
     ctx->first[e] = BwPortionsFirst(&mx->portions, k);
     ctx->np[e]    = BwPortionsCount(&mx->portions, k);
-    ctx->row[e]   = e ? ctx->row[e - 1] + 2 * ctx->np[e - 1] : 0;
+    ctx->row[e]   = e ? ctx->row[e - 1] + mx->ns * ctx->np[e - 1] : 0;
   }
   {
     /* the scatter is collective: every rank creates one if any rank needs it */
@@ -206,9 +227,9 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
     if (anyg) {
       IS  is;
       Vec q;
-      PetscCall(VecCreateSeq(PETSC_COMM_SELF, 3 * nghost, &ctx->ghost));
-      for (PetscInt g = 0; g < nghost; g++) ghosts[g] /= 3; /* a block's first q row is 3 x its q index */
-      PetscCall(ISCreateBlock(PETSC_COMM_SELF, 3, nghost, ghosts, PETSC_COPY_VALUES, &is));
+      PetscCall(VecCreateSeq(PETSC_COMM_SELF, mx->nd * nghost, &ctx->ghost));
+      for (PetscInt g = 0; g < nghost; g++) ghosts[g] /= mx->nd; /* a block's first q row is nd x its q index */
+      PetscCall(ISCreateBlock(PETSC_COMM_SELF, mx->nd, nghost, ghosts, PETSC_COPY_VALUES, &is));
       PetscCall(VecCreateMPIWithArray(mx->comm, 1, mx->nq_local, mx->nq_global, NULL, &q));
       PetscCall(VecScatterCreate(q, is, ctx->ghost, NULL, &ctx->scatter));
       PetscCall(VecDestroy(&q));
@@ -224,32 +245,33 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* T = C^-1/2 C_t C^-1/2 of portion p of owned interface e (row-major 2x2). */
-static inline void BwScaledTangent(BwMixed mx, PetscInt e, PetscInt p, PetscReal T[4])
-{
-  const PetscReal *t = mx->scaled_tangent + 4 * (mx->m * e + p);
+/* The local index of owned interface k's first portion: tangents and the
+ * stresses of owned interfaces are stored portion after portion. */
+static inline PetscInt BwLocalPortion(BwMixed mx, PetscInt k) { return (mx->rrow[k] - mx->rstart) / mx->ns; }
 
-  T[0] = t[0];
-  T[1] = t[1];
-  T[2] = t[2];
-  T[3] = t[3];
+/* v <- T v with T = C^-1/2 C_t C^-1/2 of a portion (row-major ns x ns) */
+static inline void BwApplyScaledTangent(PetscInt ns, const PetscReal T[], PetscScalar v[])
+{
+  PetscScalar t[BW_MAX_NS];
+  for (PetscInt a = 0; a < ns; a++) t[a] = v[a];
+  for (PetscInt a = 0; a < ns; a++) {
+    v[a] = 0;
+    for (PetscInt b = 0; b < ns; b++) v[a] += T[ns * a + b] * t[b];
+  }
 }
 
 PetscErrorCode BwMixedApplyTangent(BwMixed mx, Vec yr)
 {
-  PetscScalar *y;
+  const PetscInt ns = mx->ns;
+  PetscScalar   *y;
 
   PetscFunctionBeginUser;
   if (!mx->tangent) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(VecGetArray(yr, &y));
-  for (PetscInt e = 0; e < mx->nown_interfaces; e++)
-    for (PetscInt p = 0; p < mx->m; p++) {
-      PetscScalar *v = y + 2 * (mx->m * e + p), t0 = v[0], t1 = v[1];
-      PetscReal    T[4];
-      BwScaledTangent(mx, e, p, T);
-      v[0] = T[0] * t0 + T[1] * t1;
-      v[1] = T[2] * t0 + T[3] * t1;
-    }
+  for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+    PetscInt k = mx->own_interfaces[e], lp = BwLocalPortion(mx, k), np = BwPortionsCount(&mx->portions, k);
+    for (PetscInt p = 0; p < np; p++) BwApplyScaledTangent(ns, mx->scaled_tangent + ns * ns * (lp + p), y + ns * (lp + p));
+  }
   PetscCall(VecRestoreArray(yr, &y));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -359,21 +381,22 @@ PetscErrorCode BwMatFromCSR(BwMixed mx, PetscInt m, PetscInt n, PetscInt M, Pets
 
 PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscBool tangent, Mat *D)
 {
-  BwGeometry geom = mx->geom;
-  PetscInt   m2 = 2 * mx->m, *ia, *ja, n = 0, cols[6];
-  PetscReal *va, *d, w[18];
+  BwGeometry     geom = mx->geom;
+  const PetscInt nd = mx->nd, ns = mx->ns;
+  PetscInt      *ia, *ja, n = 0, cols[2 * BW_MAX_ND];
+  PetscReal     *va, *d, w[2 * BW_MAX_ND * BW_MAX_ND];
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(mx->nr_local + 1, &ia));
   ia[0] = 0;
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt k = mx->own_interfaces[e], nf = 0;
-    for (PetscInt s = 0; s < 2; s++) nf += mx->qrow[geom->pair[2 * k + s]] >= 0 ? 3 : 0;
-    for (PetscInt p = 0; p < m2; p++, n++) ia[n + 1] = ia[n] + nf;
+    PetscInt k = mx->own_interfaces[e], nf = 0, nrows = ns * BwPortionsCount(&mx->portions, k);
+    for (PetscInt s = 0; s < 2; s++) nf += mx->qrow[geom->pair[2 * k + s]] >= 0 ? nd : 0;
+    for (PetscInt p = 0; p < nrows; p++, n++) ia[n + 1] = ia[n] + nf;
   }
   PetscCall(PetscMalloc1(ia[mx->nr_local] + 1, &ja));
   PetscCall(PetscMalloc1(ia[mx->nr_local] + 1, &va));
-  PetscCall(PetscMalloc1(6 * m2, &d));
+  PetscCall(PetscMalloc1(2 * nd * ns * mx->portions.maxnp, &d));
   n = 0;
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
     PetscInt         k = mx->own_interfaces[e], nc = 0;
@@ -381,29 +404,32 @@ PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscBool tangent, Mat *D)
     PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
     int              status;
     PetscCall(BwMixedScaledCompatibility(mx, k, w));
-    bw_kernel_operator(2, (int)np, area, xi, eta, mx->model->kt[k], mx->model->kn[k], w, d, &status);
+    bw_kernel_operator((int)mx->dim, (int)np, area, xi, eta, mx->model->kt[k], mx->model->kn[k], w, d, &status);
     PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
-    if (tangent && mx->tangent)
-      for (PetscInt p = 0; p < mx->m; p++) {
-        PetscReal T[4], *rt = d + 6 * (2 * p), *rn = rt + 6;
-        BwScaledTangent(mx, e, p, T);
-        for (PetscInt c = 0; c < 6; c++) {
-          PetscReal t0 = rt[c], t1 = rn[c];
-          rt[c] = T[0] * t0 + T[1] * t1;
-          rn[c] = T[2] * t0 + T[3] * t1;
+    if (tangent && mx->tangent) {
+      PetscInt lp = BwLocalPortion(mx, k);
+      for (PetscInt p = 0; p < np; p++) {
+        const PetscReal *T = mx->scaled_tangent + ns * ns * (lp + p);
+        PetscReal       *rows = d + 2 * nd * ns * p;
+        for (PetscInt c = 0; c < 2 * nd; c++) {
+          PetscScalar v[BW_MAX_NS];
+          for (PetscInt a = 0; a < ns; a++) v[a] = rows[2 * nd * a + c];
+          BwApplyScaledTangent(ns, T, v);
+          for (PetscInt a = 0; a < ns; a++) rows[2 * nd * a + c] = PetscRealPart(v[a]);
         }
       }
+    }
     for (PetscInt s = 0; s < 2; s++) {
       PetscInt r = mx->qrow[geom->pair[2 * k + s]];
       if (r >= 0)
-        for (PetscInt f = 0; f < 3; f++) cols[nc++] = 3 * s + f;
+        for (PetscInt f = 0; f < nd; f++) cols[nc++] = nd * s + f;
     }
-    for (PetscInt p = 0; p < m2; p++, n++) {
+    for (PetscInt p = 0; p < ns * np; p++, n++) {
       PetscInt at0 = ia[n];
       for (PetscInt c = 0; c < nc; c++) {
-        PetscInt blk = geom->pair[2 * k + cols[c] / 3];
-        ja[at0 + c]  = mx->qrow[blk] + cols[c] % 3;
-        va[at0 + c]  = d[6 * p + cols[c]];
+        PetscInt blk = geom->pair[2 * k + cols[c] / nd];
+        ja[at0 + c]  = mx->qrow[blk] + cols[c] % nd;
+        va[at0 + c]  = d[2 * nd * p + cols[c]];
       }
       BwSortRow(nc, ja + at0, va + at0);
     }
@@ -519,12 +545,12 @@ PetscErrorCode BwMixedSetUp(BwMixed mx, BwStorage storage)
   PetscCall(ISCreateStride(mx->comm, mx->nr_local, mx->kstart, 1, &mx->isr));
   PetscCall(ISCreateStride(mx->comm, mx->nq_local, mx->kstart + mx->nr_local, 1, &mx->isq));
   PetscCall(VecCreateMPI(mx->comm, mx->nq_local, mx->nq_global, &mx->pmask));
-  PetscCall(VecSetBlockSize(mx->pmask, 3));
+  PetscCall(VecSetBlockSize(mx->pmask, mx->nd));
   PetscCall(VecGetArray(mx->pmask, &pm));
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt b = mx->own_blocks[e];
     if (mx->qrow[b] < 0) continue;
-    for (PetscInt c = 0; c < 3; c++) pm[mx->qrow[b] - mx->qstart + c] = mx->model->prescribed[3 * b + c] ? 1 : 0;
+    for (PetscInt c = 0; c < mx->nd; c++) pm[mx->qrow[b] - mx->qstart + c] = mx->model->prescribed[mx->nd * b + c] ? 1 : 0;
   }
   PetscCall(VecRestoreArray(mx->pmask, &pm));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_ASSEMBLE_D], 0, 0, 0, 0));
@@ -562,7 +588,7 @@ static PetscErrorCode BwMixedValuesChanged(BwMixed mx)
 PetscErrorCode BwMixedSetSpring(BwMixed mx, PetscInt block, PetscInt dof, PetscReal stiffness)
 {
   PetscFunctionBeginUser;
-  PetscCheck(block < 0 || (mx->qrow[block] >= 0 && !mx->model->prescribed[3 * block + dof]), mx->comm, PETSC_ERR_ARG_WRONG, "a spring needs a free dof");
+  PetscCheck(block < 0 || (mx->qrow[block] >= 0 && !mx->model->prescribed[mx->nd * block + dof]), mx->comm, PETSC_ERR_ARG_WRONG, "a spring needs a free dof");
   if (block == mx->spring_block && dof == mx->spring_dof && stiffness == mx->spring) PetscFunctionReturn(PETSC_SUCCESS);
   mx->spring_block = block < 0 ? -1 : block;
   mx->spring_dof   = block < 0 ? 0 : dof;
@@ -573,7 +599,8 @@ PetscErrorCode BwMixedSetSpring(BwMixed mx, PetscInt block, PetscInt dof, PetscR
 
 PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
 {
-  PetscInt n = 4 * mx->m * mx->nown_interfaces;
+  const PetscInt ns = mx->ns;
+  PetscInt       n  = ns * ns * (mx->nr_local / ns); /* ns x ns per owned portion */
 
   PetscFunctionBeginUser;
   if (tangent) {
@@ -581,15 +608,14 @@ PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
     PetscCall(PetscArraycpy(mx->tangent, tangent, n));
     /* T = C^-1/2 C_t C^-1/2 once here: every product with K applies it */
     for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-      PetscInt  k  = mx->own_interfaces[e];
-      PetscReal st = 1 / PetscSqrtReal(mx->model->kt[k]), sn = 1 / PetscSqrtReal(mx->model->kn[k]);
-      for (PetscInt p = 0; p < mx->m; p++) {
-        const PetscReal *c = mx->tangent + 4 * (mx->m * e + p);
-        PetscReal       *t = mx->scaled_tangent + 4 * (mx->m * e + p);
-        t[0]               = c[0] * st * st;
-        t[1]               = c[1] * st * sn;
-        t[2]               = c[2] * sn * st;
-        t[3]               = c[3] * sn * sn;
+      PetscInt  k = mx->own_interfaces[e], lp = BwLocalPortion(mx, k), np = BwPortionsCount(&mx->portions, k);
+      PetscReal st = 1 / PetscSqrtReal(mx->model->kt[k]), sn = 1 / PetscSqrtReal(mx->model->kn[k]), sc[BW_MAX_NS];
+      for (PetscInt a = 0; a < ns; a++) sc[a] = a == 1 ? sn : st;
+      for (PetscInt p = 0; p < np; p++) {
+        const PetscReal *c = mx->tangent + ns * ns * (lp + p);
+        PetscReal       *t = mx->scaled_tangent + ns * ns * (lp + p);
+        for (PetscInt a = 0; a < ns; a++)
+          for (PetscInt b = 0; b < ns; b++) t[ns * a + b] = c[ns * a + b] * sc[a] * sc[b];
       }
     }
   } else PetscCall(PetscFree2(mx->tangent, mx->scaled_tangent));

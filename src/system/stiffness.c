@@ -38,18 +38,18 @@ static PetscErrorCode BwMixedStiffnessInterfaces(BwMixed mx)
   }
   PetscCall(PetscSortRemoveDupsInt(&n, mx->kg_interfaces));
   mx->nkg = n;
-  PetscCall(PetscMalloc1(9 * n + 1, &mx->kg));
+  PetscCall(PetscMalloc1(mx->nd * mx->nd * n + 1, &mx->kg));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* K_G (3x3, row-major) of interface k from its law's elastic tangent: the
  * law evaluated at zero jump and a virgin state, the same for every
  * portion. */
-static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal kg[9])
+static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal kg[])
 {
   BwGeometry  g = mx->geom;
   BwJointLaw  law;
-  PetscReal   par[BW_LAW_NPAR], state[BW_LAW_NSTATE] = {0, 0, 0, 0}, jump[2] = {0, 0}, stress[2], tangent[4], state_out[BW_LAW_NSTATE];
+  PetscReal   par[BW_LAW_NPAR], state[BW_LAW_NSTATE] = {0, 0, 0, 0}, jump[BW_MAX_NS] = {0}, stress[BW_MAX_NS], tangent[BW_MAX_NS * BW_MAX_NS], state_out[BW_LAW_NSTATE];
   signed char mode;
   char        what[128];
   int         status;
@@ -61,7 +61,7 @@ static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal 
   {
     const PetscReal *area, *xi, *eta;
     PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
-    bw_kernel_condense(2, (int)np, area, xi, eta, 1, tangent, kg, &status);
+    bw_kernel_condense((int)mx->dim, (int)np, area, xi, eta, 1, tangent, kg, &status);
   }
   PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on %s", what);
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -70,20 +70,23 @@ static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal 
 /* K_G of every interface the rows need, into mx->kg. */
 static PetscErrorCode BwMixedCondense(BwMixed mx)
 {
+  const PetscInt nkg = mx->nd * mx->nd;
+
   PetscFunctionBeginUser;
   if (!mx->tangent) {
-    for (PetscInt e = 0; e < mx->nkg; e++) PetscCall(BwMixedElasticStiffness(mx, mx->kg_interfaces[e], mx->kg + 9 * e));
+    for (PetscInt e = 0; e < mx->nkg; e++) PetscCall(BwMixedElasticStiffness(mx, mx->kg_interfaces[e], mx->kg + mx->nd * mx->nd * e));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   if (!mx->kg_scatter) {
     PetscInt *slot;
     IS        is;
-    PetscCall(VecCreateMPI(mx->comm, 9 * mx->nown_interfaces, PETSC_DETERMINE, &mx->kg_owned));
-    PetscCall(VecCreateSeq(PETSC_COMM_SELF, 9 * mx->nkg, &mx->kg_ghost));
+    PetscCall(VecCreateMPI(mx->comm, nkg * mx->nown_interfaces, PETSC_DETERMINE, &mx->kg_owned));
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, nkg * mx->nkg, &mx->kg_ghost));
     PetscCall(PetscMalloc1(mx->nkg + 1, &slot));
-    /* an interface's place among all, in owner order, is its first stress row over 2m */
-    for (PetscInt e = 0; e < mx->nkg; e++) slot[e] = mx->rrow[mx->kg_interfaces[e]] / (2 * mx->m);
-    PetscCall(ISCreateBlock(PETSC_COMM_SELF, 9, mx->nkg, slot, PETSC_COPY_VALUES, &is));
+    /* an interface's place among all, in owner order: its global index in
+     * the owners' order, from the owned counts of the ranks before */
+    PetscCall(BwMixedInterfaceSlots(mx, slot));
+    PetscCall(ISCreateBlock(PETSC_COMM_SELF, nkg, mx->nkg, slot, PETSC_COPY_VALUES, &is));
     PetscCall(VecScatterCreate(mx->kg_owned, is, mx->kg_ghost, NULL, &mx->kg_scatter));
     PetscCall(ISDestroy(&is));
     PetscCall(PetscFree(slot));
@@ -94,19 +97,19 @@ static PetscErrorCode BwMixedCondense(BwMixed mx)
     PetscCall(VecGetArray(mx->kg_owned, &o));
     for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
       PetscInt         k = mx->own_interfaces[e];
-      PetscReal        kg[9];
+      PetscReal        kg[BW_MAX_ND * BW_MAX_ND];
       const PetscReal *area, *xi, *eta;
       PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
       int              status;
-      bw_kernel_condense(2, (int)np, area, xi, eta, (int)np, mx->tangent + 4 * mx->m * e, kg, &status);
+      bw_kernel_condense((int)mx->dim, (int)np, area, xi, eta, (int)np, mx->tangent + mx->ns * (mx->rrow[k] - mx->rstart), kg, &status);
       PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
-      for (PetscInt c = 0; c < 9; c++) o[9 * e + c] = kg[c];
+      for (PetscInt c = 0; c < nkg; c++) o[nkg * e + c] = kg[c];
     }
     PetscCall(VecRestoreArray(mx->kg_owned, &o));
     PetscCall(VecScatterBegin(mx->kg_scatter, mx->kg_owned, mx->kg_ghost, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecScatterEnd(mx->kg_scatter, mx->kg_owned, mx->kg_ghost, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecGetArrayRead(mx->kg_ghost, &gh));
-    for (PetscInt c = 0; c < 9 * mx->nkg; c++) mx->kg[c] = PetscRealPart(gh[c]);
+    for (PetscInt c = 0; c < nkg * mx->nkg; c++) mx->kg[c] = PetscRealPart(gh[c]);
     PetscCall(VecRestoreArrayRead(mx->kg_ghost, &gh));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -114,16 +117,17 @@ static PetscErrorCode BwMixedCondense(BwMixed mx)
 
 typedef struct {
   PetscInt  *nbr, *col; /* neighbour blocks (with free dofs) of the row's block, sorted by q row; their first q rows */
-  PetscReal *acc;       /* 3 rows x 3 nn columns */
+  PetscReal *acc;       /* nd rows x nd nn columns */
 } BwRowWork;
 
-/* The three rows of owned block b: columns (3 per neighbour with free dofs,
+/* The nd rows of owned block b: columns (nd per neighbour with free dofs,
  * in q-row order) and, with values, their entries. Returns the number of
  * neighbours. */
 static PetscErrorCode BwMixedBlockRows(BwMixed mx, PetscInt b, PetscBool values, BwRowWork *w, PetscInt *nn)
 {
-  BwGeometry g = mx->geom;
-  PetscInt   n = 0;
+  BwGeometry     g  = mx->geom;
+  const PetscInt nd = mx->nd;
+  PetscInt       n  = 0;
 
   PetscFunctionBeginUser;
   w->nbr[n++] = mx->qrow[b];
@@ -134,34 +138,34 @@ static PetscErrorCode BwMixedBlockRows(BwMixed mx, PetscInt b, PetscBool values,
   PetscCall(PetscSortRemoveDupsInt(&n, w->nbr));
   *nn = n;
   if (!values) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PetscArrayzero(w->acc, 9 * n));
+  PetscCall(PetscArrayzero(w->acc, nd * nd * n));
   for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
     PetscInt  k = mx->adj[a], side = BwSide(mx, k, b), loc;
-    PetscReal rb[18], s6[36], sc[6];
+    PetscReal rb[2 * BW_MAX_ND * BW_MAX_ND], s6[4 * BW_MAX_ND * BW_MAX_ND], sc[2 * BW_MAX_ND];
     int       status;
     PetscCall(PetscFindInt(k, mx->nkg, mx->kg_interfaces, &loc));
     PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface %" PetscInt_FMT " not condensed", k);
     PetscCall(BwMixedCompatibility(mx, k, rb));
-    bw_kernel_stiffness(2, rb, mx->kg + 9 * loc, s6, &status);
-    for (PetscInt c = 0; c < 6; c++) {
-      PetscInt blk = g->pair[2 * k + c / 3];
-      sc[c]        = mx->model->prescribed[3 * blk + c % 3] ? 0 : mx->qscale[3 * blk + c % 3];
+    bw_kernel_stiffness((int)mx->dim, rb, mx->kg + nd * nd * loc, s6, &status);
+    for (PetscInt c = 0; c < 2 * nd; c++) {
+      PetscInt blk = g->pair[2 * k + c / nd];
+      sc[c]        = mx->model->prescribed[nd * blk + c % nd] ? 0 : mx->qscale[nd * blk + c % nd];
     }
     for (PetscInt s = 0; s < 2; s++) {
       PetscInt blk = g->pair[2 * k + s], f;
       if (mx->qrow[blk] < 0) continue;
       PetscCall(PetscFindInt(mx->qrow[blk], n, w->nbr, &f));
-      for (PetscInt r = 0; r < 3; r++)
-        for (PetscInt c = 0; c < 3; c++) w->acc[3 * n * r + 3 * f + c] += sc[side + r] * s6[6 * (side + r) + 3 * s + c] * sc[3 * s + c];
+      for (PetscInt r = 0; r < nd; r++)
+        for (PetscInt c = 0; c < nd; c++) w->acc[nd * n * r + nd * f + c] += sc[side + r] * s6[2 * nd * (side + r) + nd * s + c] * sc[nd * s + c];
     }
   }
   /* prescribed dofs: identity rows (their columns are zero already) */
   {
     PetscInt self;
     PetscCall(PetscFindInt(mx->qrow[b], n, w->nbr, &self));
-    for (PetscInt r = 0; r < 3; r++)
-      if (mx->model->prescribed[3 * b + r]) w->acc[3 * n * r + 3 * self + r] = 1;
-    if (b == mx->spring_block) w->acc[3 * n * mx->spring_dof + 3 * self + mx->spring_dof] += mx->spring;
+    for (PetscInt r = 0; r < nd; r++)
+      if (mx->model->prescribed[nd * b + r]) w->acc[nd * n * r + nd * self + r] = 1;
+    if (b == mx->spring_block) w->acc[nd * n * mx->spring_dof + nd * self + mx->spring_dof] += mx->spring;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -171,18 +175,19 @@ static PetscErrorCode BwMixedBlockRows(BwMixed mx, PetscInt b, PetscBool values,
  * this rank) or the off-diagonal part. */
 static PetscErrorCode BwMixedWriteS(BwMixed mx, BwRowWork *w)
 {
-  PetscInt row = 0, cstart = mx->qstart, cend = mx->qstart + mx->nq_local;
+  const PetscInt ndof = mx->nd;
+  PetscInt       row = 0, cstart = mx->qstart, cend = mx->qstart + mx->nq_local;
 
   PetscFunctionBeginUser;
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt b = mx->own_blocks[e], nn;
     if (mx->qrow[b] < 0) continue;
     PetscCall(BwMixedBlockRows(mx, b, PETSC_TRUE, w, &nn));
-    for (PetscInt r = 0; r < 3; r++, row++) {
+    for (PetscInt r = 0; r < ndof; r++, row++) {
       PetscInt nd = mx->svals.di[row], no = mx->svals.oi ? mx->svals.oi[row] : 0;
       for (PetscInt f = 0; f < nn; f++)
-        for (PetscInt c = 0; c < 3; c++) {
-          PetscReal v = w->acc[3 * nn * r + 3 * f + c];
+        for (PetscInt c = 0; c < ndof; c++) {
+          PetscReal v = w->acc[ndof * nn * r + ndof * f + c];
           if (w->nbr[f] >= cstart && w->nbr[f] < cend) mx->svals.dv[nd++] = v;
           else mx->svals.ov[no++] = v;
         }
@@ -193,14 +198,15 @@ static PetscErrorCode BwMixedWriteS(BwMixed mx, BwRowWork *w)
 
 PetscErrorCode BwMixedAssembleS(BwMixed mx)
 {
-  PetscInt  *ia, *ja, row = 0;
-  PetscReal *va;
-  BwRowWork  w;
+  const PetscInt nd = mx->nd;
+  PetscInt      *ia, *ja, row = 0;
+  PetscReal     *va;
+  BwRowWork      w;
 
   PetscFunctionBeginUser;
   PetscCall(BwMixedStiffnessInterfaces(mx));
   PetscCall(BwMixedCondense(mx));
-  PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, 9 * (mx->maxdeg + 1), &w.acc));
+  PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, nd * nd * (mx->maxdeg + 1), &w.acc));
   /* pass 1: the pattern */
   PetscCall(PetscMalloc1(mx->nq_local + 1, &ia));
   ia[0] = 0;
@@ -208,7 +214,7 @@ PetscErrorCode BwMixedAssembleS(BwMixed mx)
     PetscInt b = mx->own_blocks[e], nn;
     if (mx->qrow[b] < 0) continue;
     PetscCall(BwMixedBlockRows(mx, b, PETSC_FALSE, &w, &nn));
-    for (PetscInt r = 0; r < 3; r++, row++) ia[row + 1] = ia[row] + 3 * nn;
+    for (PetscInt r = 0; r < nd; r++, row++) ia[row + 1] = ia[row] + nd * nn;
   }
   PetscCall(PetscMalloc1(ia[mx->nq_local] + 1, &ja));
   PetscCall(PetscCalloc1(ia[mx->nq_local] + 1, &va));
@@ -217,13 +223,13 @@ PetscErrorCode BwMixedAssembleS(BwMixed mx)
     PetscInt b = mx->own_blocks[e], nn;
     if (mx->qrow[b] < 0) continue;
     PetscCall(BwMixedBlockRows(mx, b, PETSC_FALSE, &w, &nn));
-    for (PetscInt r = 0; r < 3; r++, row++)
+    for (PetscInt r = 0; r < nd; r++, row++)
       for (PetscInt f = 0; f < nn; f++)
-        for (PetscInt c = 0; c < 3; c++) ja[ia[row] + 3 * f + c] = w.nbr[f] + c;
+        for (PetscInt c = 0; c < nd; c++) ja[ia[row] + nd * f + c] = w.nbr[f] + c;
   }
   /* the matrix PETSc uses in place, then the values written into it */
   PetscCall(BwMatFromCSR(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "schur_", ia, ja, va, &mx->S, &mx->svals));
-  PetscCall(MatSetBlockSize(mx->S, 3));
+  PetscCall(MatSetBlockSize(mx->S, nd));
   PetscCall(BwMixedWriteS(mx, &w));
   PetscCall(PetscFree3(w.nbr, w.col, w.acc));
   PetscCall(MatSetOption(mx->S, MAT_SYMMETRIC, PETSC_TRUE));
@@ -239,13 +245,15 @@ PetscErrorCode BwMixedRefillS(BwMixed mx)
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_ASSEMBLE_S], 0, 0, 0, 0));
   PetscCall(BwMixedCondense(mx));
-  PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, 9 * (mx->maxdeg + 1), &w.acc));
+  PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, mx->nd * mx->nd * (mx->maxdeg + 1), &w.acc));
   PetscCall(BwMixedWriteS(mx, &w));
   PetscCall(PetscFree3(w.nbr, w.col, w.acc));
   /* the values changed in place: whoever factored S^ must factor again */
   PetscCall(BwMatValuesChanged(mx->S));
   /* a non-associated flow (tan psi < tan phi) makes the tangents, and S^, unsymmetric */
-  for (PetscInt e = 0; mx->tangent && e < mx->nown_interfaces * mx->m && symmetric; e++) symmetric = (PetscBool)(mx->tangent[4 * e + 1] == mx->tangent[4 * e + 2]);
+  for (PetscInt e = 0, ns = mx->ns; mx->tangent && e < mx->nr_local / ns && symmetric; e++)
+    for (PetscInt a = 0; a < ns; a++)
+      for (PetscInt b = a + 1; b < ns; b++) symmetric = (PetscBool)(symmetric && mx->tangent[ns * ns * e + ns * a + b] == mx->tangent[ns * ns * e + ns * b + a]);
   {
     int loc = symmetric ? 1 : 0, all;
     PetscCallMPI(MPI_Allreduce(&loc, &all, 1, MPI_INT, MPI_LAND, mx->comm));
