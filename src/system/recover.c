@@ -16,8 +16,9 @@ typedef struct {
   PetscInt           nint, *ints; /* interfaces needed, sorted */
   PetscInt          *roff;        /* per needed interface: offset of its stresses in r, -1 when this rank holds them */
   PetscInt           nblk, *blks; /* blocks needed, sorted */
-  PetscReal         *r;           /* 2m per interface held elsewhere, physical */
-  PetscReal         *q;           /* 3 per needed block, physical */
+  PetscReal         *r;           /* ns per portion of the interfaces held elsewhere, physical */
+  PetscReal         *q;           /* nd per needed block, physical */
+  PetscInt           nd;
   Vec                x;           /* the solution, read in place for what this rank holds */
   const PetscScalar *xl;
 } BwGhosts;
@@ -25,13 +26,15 @@ typedef struct {
 static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
 {
   BwGeometry         geom = mx->geom;
-  PetscInt           m2 = 2 * mx->m, n, *from, lo = mx->kstart, hi = mx->kstart + mx->nlocal, nremote = 0, nrint = 0;
+  const PetscInt     nd = mx->nd, ns = mx->ns;
+  PetscInt           n, *from, lo = mx->kstart, hi = mx->kstart + mx->nlocal, nremote = 0, nrr = 0;
   IS                 isfrom;
   Vec                loc;
   VecScatter         sct;
   const PetscScalar *a;
 
   PetscFunctionBeginUser;
+  gh->nd = nd;
   /* needed interfaces and blocks */
   n = mx->nown_interfaces;
   for (PetscInt e = 0; e < mx->nown_blocks; e++) n += mx->adj_offsets[mx->own_blocks[e] + 1] - mx->adj_offsets[mx->own_blocks[e]];
@@ -58,22 +61,26 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   PetscCall(PetscMalloc1(gh->nint + 1, &gh->roff));
   for (PetscInt e = 0; e < gh->nint; e++) {
     PetscInt row = mx->krow_r[gh->ints[e]];
-    gh->roff[e]  = row < lo || row >= hi ? m2 * nrint++ : -1;
+    gh->roff[e]  = -1;
+    if (row < lo || row >= hi) {
+      gh->roff[e] = nrr;
+      nrr += ns * BwPortionsCount(&mx->portions, gh->ints[e]);
+    }
   }
-  nremote = m2 * nrint;
+  nremote = nrr;
   for (PetscInt e = 0; e < gh->nblk; e++) {
     PetscInt row = mx->krow_q[gh->blks[e]];
-    if (row >= 0 && (row < lo || row >= hi)) nremote += 3;
+    if (row >= 0 && (row < lo || row >= hi)) nremote += nd;
   }
   PetscCall(PetscMalloc1(nremote + 1, &from));
   n = 0;
   for (PetscInt e = 0; e < gh->nint; e++)
     if (gh->roff[e] >= 0)
-      for (PetscInt p = 0; p < m2; p++) from[n++] = mx->krow_r[gh->ints[e]] + p;
+      for (PetscInt p = 0; p < ns * BwPortionsCount(&mx->portions, gh->ints[e]); p++) from[n++] = mx->krow_r[gh->ints[e]] + p;
   for (PetscInt e = 0; e < gh->nblk; e++) {
     PetscInt row = mx->krow_q[gh->blks[e]];
     if (row >= 0 && (row < lo || row >= hi))
-      for (PetscInt c = 0; c < 3; c++) from[n++] = row + c;
+      for (PetscInt c = 0; c < nd; c++) from[n++] = row + c;
   }
   PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, from, PETSC_OWN_POINTER, &isfrom));
   PetscCall(VecCreateSeq(PETSC_COMM_SELF, n, &loc));
@@ -84,32 +91,30 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   PetscCall(ISDestroy(&isfrom));
 
   /* unscale what came from elsewhere; this rank's own stays in x */
-  PetscCall(PetscMalloc2(m2 * nrint + 1, &gh->r, 3 * gh->nblk + 1, &gh->q));
+  PetscCall(PetscMalloc2(nrr + 1, &gh->r, nd * gh->nblk + 1, &gh->q));
   gh->x = x;
   PetscCall(VecGetArrayRead(x, &gh->xl));
   PetscCall(VecGetArrayRead(loc, &a));
   n = 0;
   for (PetscInt e = 0; e < gh->nint; e++) {
-    PetscInt         k = gh->ints[e];
+    PetscInt         k = gh->ints[e], np = BwPortionsCount(&mx->portions, k);
     PetscReal        skt, skn;
     const PetscReal *isqa = mx->portions.inv_sqrt_area + BwPortionsFirst(&mx->portions, k);
     if (gh->roff[e] < 0) continue;
     BwMixedStiffnessRoots(mx, k, &skt, &skn);
-    for (PetscInt p = 0; p < mx->m; p++) {
-      gh->r[gh->roff[e] + 2 * p]     = PetscRealPart(a[n + 2 * p]) * skt * isqa[p];
-      gh->r[gh->roff[e] + 2 * p + 1] = PetscRealPart(a[n + 2 * p + 1]) * skn * isqa[p];
-    }
-    n += m2;
+    for (PetscInt p = 0; p < np; p++)
+      for (PetscInt c = 0; c < ns; c++) gh->r[gh->roff[e] + ns * p + c] = PetscRealPart(a[n + ns * p + c]) * (c == 1 ? skn : skt) * isqa[p];
+    n += ns * np;
   }
   for (PetscInt e = 0; e < gh->nblk; e++) {
     PetscInt         b = gh->blks[e], row = mx->krow_q[b];
-    const PetscReal *sc = &mx->qscale[3 * b];
+    const PetscReal *sc = &mx->qscale[nd * b];
     PetscBool        mine = row >= lo && row < hi;
-    for (PetscInt c = 0; c < 3; c++) {
-      if (mx->model->prescribed[3 * b + c]) gh->q[3 * e + c] = mx->model->value[3 * b + c];
-      else gh->q[3 * e + c] = PetscRealPart(mine ? gh->xl[row - lo + c] : a[n + c]) * sc[c];
+    for (PetscInt c = 0; c < nd; c++) {
+      if (mx->model->prescribed[nd * b + c]) gh->q[nd * e + c] = mx->model->value[nd * b + c];
+      else gh->q[nd * e + c] = PetscRealPart(mine ? gh->xl[row - lo + c] : a[n + c]) * sc[c];
     }
-    if (row >= 0 && !mine) n += 3;
+    if (row >= 0 && !mine) n += nd;
   }
   PetscCall(VecRestoreArrayRead(loc, &a));
   PetscCall(VecDestroy(&loc));
@@ -134,11 +139,11 @@ static PetscErrorCode BwGhostBlock(const BwGhosts *gh, PetscInt b, const PetscRe
   PetscFunctionBeginUser;
   PetscCall(PetscFindInt(b, gh->nblk, gh->blks, &loc));
   PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "block %" PetscInt_FMT " not gathered", b);
-  *q = gh->q + 3 * loc;
+  *q = gh->q + gh->nd * loc;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The physical stresses of interface k (2m, (shear, normal) per portion)
+/* The physical stresses of interface k (ns per portion: rt, rn[, rb])
  * into out[]: unscaled from x where this rank holds them, else gathered. */
 static PetscErrorCode BwGhostStress(BwMixed mx, const BwGhosts *gh, PetscInt k, PetscReal out[])
 {
@@ -147,80 +152,80 @@ static PetscErrorCode BwGhostStress(BwMixed mx, const BwGhosts *gh, PetscInt k, 
   PetscFunctionBeginUser;
   PetscCall(PetscFindInt(k, gh->nint, gh->ints, &loc));
   PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface %" PetscInt_FMT " not gathered", k);
-  if (gh->roff[loc] >= 0) PetscCall(PetscArraycpy(out, gh->r + gh->roff[loc], 2 * mx->m));
+  const PetscInt ns = mx->ns, np = BwPortionsCount(&mx->portions, k);
+  if (gh->roff[loc] >= 0) PetscCall(PetscArraycpy(out, gh->r + gh->roff[loc], ns * np));
   else {
     const PetscScalar *src = gh->xl + (mx->krow_r[k] - mx->kstart);
     const PetscReal   *isqa = mx->portions.inv_sqrt_area + BwPortionsFirst(&mx->portions, k);
     PetscReal          skt, skn;
     BwMixedStiffnessRoots(mx, k, &skt, &skn);
-    for (PetscInt p = 0; p < mx->m; p++) {
-      out[2 * p]     = PetscRealPart(src[2 * p]) * skt * isqa[p];
-      out[2 * p + 1] = PetscRealPart(src[2 * p + 1]) * skn * isqa[p];
-    }
+    for (PetscInt p = 0; p < np; p++)
+      for (PetscInt c = 0; c < ns; c++) out[ns * p + c] = PetscRealPart(src[ns * p + c]) * (c == 1 ? skn : skt) * isqa[p];
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBool stresses, BwResults *res)
 {
-  BwGeometry geom = mx->geom;
-  PetscInt   m = mx->m, m2 = 2 * m;
-  BwGhosts   gh;
-  PetscReal *work;
+  BwGeometry     geom = mx->geom;
+  const PetscInt nd = mx->nd, ns = mx->ns;
+  BwGhosts       gh;
+  PetscReal     *work;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(m2, &work));
+  PetscCall(PetscMalloc1(ns * mx->portions.maxnp, &work));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
   PetscCall(BwGhostsGather(mx, x, &gh));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
-  PetscCall(PetscCalloc5(3 * mx->nown_blocks + 1, &res->displacement, 3 * mx->nown_blocks + 1, &res->reaction, 3 * mx->nown_interfaces + 1, &res->relative, 3 * mx->nown_interfaces + 1, &res->resultant, stresses ? m2 * mx->nown_interfaces + 1 : 0, &res->stress));
+  PetscCall(PetscCalloc5(nd * mx->nown_blocks + 1, &res->displacement, nd * mx->nown_blocks + 1, &res->reaction, nd * mx->nown_interfaces + 1, &res->relative, nd * mx->nown_interfaces + 1, &res->resultant, stresses ? mx->nr_local + 1 : 0, &res->stress));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
     PetscInt         k = mx->own_interfaces[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
-    const PetscReal *qi, *qj;
-    PetscReal       *r;
-    PetscReal        rb[18], *dg = &res->relative[3 * e];
+    const PetscReal *qi, *qj, *area, *xi, *eta;
+    PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
+    PetscReal       *r, rb[2 * BW_MAX_ND * BW_MAX_ND], *dg = &res->relative[nd * e];
     int              status;
 
-    /* output order (I, m, 2): the stresses' own order */
-    r = stresses ? &res->stress[m2 * e] : work;
+    /* output order: the stresses' own order, portion after portion */
+    r = stresses ? &res->stress[mx->rrow[k] - mx->rstart] : work;
     PetscCall(BwGhostStress(mx, &gh, k, r));
     PetscCall(BwGhostBlock(&gh, i, &qi));
     PetscCall(BwGhostBlock(&gh, j, &qj));
     PetscCall(BwMixedCompatibility(mx, k, rb));
-    for (PetscInt a = 0; a < 3; a++) {
+    for (PetscInt a = 0; a < nd; a++) {
       dg[a] = 0;
-      for (PetscInt c = 0; c < 3; c++) dg[a] += rb[6 * a + c] * qi[c] + rb[6 * a + 3 + c] * qj[c];
+      for (PetscInt c = 0; c < nd; c++) dg[a] += rb[2 * nd * a + c] * qi[c] + rb[2 * nd * a + nd + c] * qj[c];
     }
-    {
-      const PetscReal *area, *xi, *eta;
-      PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
-      bw_kernel_resultants(2, (int)np, area, xi, eta, r, &res->resultant[3 * e], &status);
-    }
+    bw_kernel_resultants((int)mx->dim, (int)np, area, xi, eta, r, &res->resultant[nd * e], &status);
     PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
   }
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt         b = mx->own_blocks[e];
     const PetscReal *qb;
-    PetscReal        f[3] = {0, 0, 0};
+    PetscReal        f[BW_MAX_ND] = {0};
+    PetscBool        any = PETSC_FALSE;
 
     PetscCall(BwGhostBlock(&gh, b, &qb));
-    for (PetscInt c = 0; c < 3; c++) res->displacement[3 * e + c] = qb[c];
-    if (!(mx->model->prescribed[3 * b] || mx->model->prescribed[3 * b + 1] || mx->model->prescribed[3 * b + 2])) continue;
-    /* (D^T r)_b = sum over b's interfaces of (R B)_b^T (T, N, M), H r summed
+    for (PetscInt c = 0; c < nd; c++) {
+      res->displacement[nd * e + c] = qb[c];
+      any                           = (PetscBool)(any || mx->model->prescribed[nd * b + c]);
+    }
+    if (!any) continue;
+    /* (D^T r)_b = sum over b's interfaces of (R B)_b^T H r, H r summed
      * from the stresses, whichever rank owns the interface */
     for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
-      PetscInt  k = mx->adj[a], side = BwSide(mx, k, b);
-      PetscReal        rb[18], h[3];
+      PetscInt         k = mx->adj[a], side = BwSide(mx, k, b);
+      PetscReal        rb[2 * BW_MAX_ND * BW_MAX_ND], h[BW_MAX_ND];
       const PetscReal *area, *xi, *eta;
       PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
       int              status;
       PetscCall(BwGhostStress(mx, &gh, k, work));
-      bw_kernel_resultants(2, (int)np, area, xi, eta, work, h, &status);
+      bw_kernel_resultants((int)mx->dim, (int)np, area, xi, eta, work, h, &status);
       PetscCall(BwMixedCompatibility(mx, k, rb));
-      for (PetscInt c = 0; c < 3; c++) f[c] += rb[side + c] * h[0] + rb[6 + side + c] * h[1] + rb[12 + side + c] * h[2];
+      for (PetscInt c = 0; c < nd; c++)
+        for (PetscInt r = 0; r < nd; r++) f[c] += rb[2 * nd * r + side + c] * h[r];
     }
-    for (PetscInt c = 0; c < 3; c++) res->reaction[3 * e + c] = mx->model->prescribed[3 * b + c] ? f[c] - load[3 * b + c] : 0;
+    for (PetscInt c = 0; c < nd; c++) res->reaction[nd * e + c] = mx->model->prescribed[nd * b + c] ? f[c] - load[nd * b + c] : 0;
   }
   PetscCall(BwGhostsFree(&gh));
   PetscCall(PetscFree(work));
@@ -284,29 +289,50 @@ PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, Vec b, const PetscReal load[], co
    * loads sum to zero: prescribed displacements only, self-balanced loads.) */
   check->equilibrium_error = -1;
   if (res) {
-    BwGeometry geom = mx->geom;
-    PetscReal  x0[2] = {0, 0}, lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, L, w[4] = {0, 0, 0, 0}, wg[4];
+    BwGeometry     geom = mx->geom;
+    const PetscInt d = geom->dim, nd = mx->nd;
+    PetscReal      x0[3] = {0, 0, 0}, lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, PETSC_MIN_REAL}, L = 0, w[7] = {0}, wg[7];
     for (PetscInt b = 0; b < geom->nblocks; b++)
-      for (PetscInt c = 0; c < 2; c++) {
-        x0[c] += geom->centroid[2 * b + c] / geom->nblocks;
-        lo[c] = PetscMin(lo[c], geom->centroid[2 * b + c]);
-        hi[c] = PetscMax(hi[c], geom->centroid[2 * b + c]);
+      for (PetscInt c = 0; c < d; c++) {
+        x0[c] += geom->centroid[d * b + c] / geom->nblocks;
+        lo[c] = PetscMin(lo[c], geom->centroid[d * b + c]);
+        hi[c] = PetscMax(hi[c], geom->centroid[d * b + c]);
       }
-    L = PetscMax(PetscSqrtReal(PetscSqr(hi[0] - lo[0]) + PetscSqr(hi[1] - lo[1])), PetscSqrtReal(geom->area[0]));
+    for (PetscInt c = 0; c < d; c++) L += PetscSqr(hi[c] - lo[c]);
+    L = PetscMax(PetscSqrtReal(L), PetscSqrtReal(geom->area[0]));
     for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-      PetscInt         b = mx->own_blocks[e];
-      const PetscReal *F = &load[3 * b], *R = &res->reaction[3 * e];
-      PetscReal        dx = geom->centroid[2 * b] - x0[0], dy = geom->centroid[2 * b + 1] - x0[1];
-      PetscReal        f[3] = {F[0] + R[0], F[1] + R[1], (F[2] + R[2] + dx * (F[1] + R[1]) - dy * (F[0] + R[0])) / L};
-      for (PetscInt c = 0; c < 3; c++) w[c] += f[c];
-      w[3] += PetscAbsReal(F[0]) + PetscAbsReal(F[1]) + (PetscAbsReal(F[2]) + PetscAbsReal(dx * F[1]) + PetscAbsReal(dy * F[0])) / L;
-      w[3] += PetscAbsReal(R[0]) + PetscAbsReal(R[1]) + (PetscAbsReal(R[2]) + PetscAbsReal(dx * R[1]) + PetscAbsReal(dy * R[0])) / L;
+      PetscInt b = mx->own_blocks[e];
+      /* the wrench of the loads and of the reactions about x0: forces, then
+       * moments (M3 in 2D; M1, M2, M3 in 3D) with the forces' own moment
+       * arm x (c - x0), divided by L */
+      for (PetscInt src = 0; src < 2; src++) {
+        const PetscReal *F = src ? &res->reaction[nd * e] : &load[nd * b];
+        PetscReal        arm[3] = {0, 0, 0}, f3[3] = {0, 0, 0}, mom[3], amom[3];
+        for (PetscInt c = 0; c < d; c++) arm[c] = geom->centroid[d * b + c] - x0[c], f3[c] = F[c];
+        mom[0] = arm[1] * f3[2] - arm[2] * f3[1];
+        mom[1] = arm[2] * f3[0] - arm[0] * f3[2];
+        mom[2] = arm[0] * f3[1] - arm[1] * f3[0];
+        amom[0] = PetscAbsReal(arm[1] * f3[2]) + PetscAbsReal(arm[2] * f3[1]);
+        amom[1] = PetscAbsReal(arm[2] * f3[0]) + PetscAbsReal(arm[0] * f3[2]);
+        amom[2] = PetscAbsReal(arm[0] * f3[1]) + PetscAbsReal(arm[1] * f3[0]);
+        for (PetscInt c = 0; c < d; c++) {
+          w[c] += F[c];
+          w[6] += PetscAbsReal(F[c]);
+        }
+        for (PetscInt c = d; c < nd; c++) {
+          PetscInt axis = d == 2 ? 2 : c - d;
+          w[3 + axis] += (F[c] + mom[axis]) / L;
+          w[6] += (PetscAbsReal(F[c]) + amom[axis]) / L;
+        }
+      }
     }
-    PetscCall(MPIU_Allreduce(w, wg, 4, MPIU_REAL, MPIU_SUM, mx->comm));
+    PetscCall(MPIU_Allreduce(w, wg, 7, MPIU_REAL, MPIU_SUM, mx->comm));
     {
-      PetscReal num = PetscSqrtReal(PetscSqr(wg[0]) + PetscSqr(wg[1]) + PetscSqr(wg[2]));
+      PetscReal num = 0;
+      for (PetscInt c = 0; c < 6; c++) num += PetscSqr(wg[c]);
+      num = PetscSqrtReal(num);
       /* nothing loaded and nothing moved: nothing to balance */
-      check->equilibrium_error = wg[3] > 0 ? num / wg[3] : 0;
+      check->equilibrium_error = wg[6] > 0 ? num / wg[6] : 0;
     }
   }
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_CHECK], 0, 0, 0, 0));
