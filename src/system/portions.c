@@ -94,6 +94,125 @@ PetscErrorCode BwPortionsCreate2D(PetscInt n, const PetscInt pair[], const Petsc
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The part of convex polygon p (n vertices, counter-clockwise) with
+ * lo <= x[axis] (side +1) or x[axis] <= hi (side -1): Sutherland-Hodgman
+ * against one line; out has room for n + 1 vertices. */
+static PetscInt BwClipAxis(PetscInt n, const PetscReal p[], PetscInt axis, PetscReal at, PetscReal side, PetscReal out[])
+{
+  PetscInt no = 0;
+  for (PetscInt v = 0; v < n; v++) {
+    const PetscReal *a = p + 2 * v, *b = p + 2 * ((v + 1) % n);
+    PetscReal        da = side * (a[axis] - at), db = side * (b[axis] - at);
+    if (da >= 0) {
+      out[2 * no]     = a[0];
+      out[2 * no + 1] = a[1];
+      no++;
+    }
+    if ((da >= 0) != (db >= 0)) {
+      PetscReal t     = da / (da - db);
+      out[2 * no]     = a[0] + t * (b[0] - a[0]);
+      out[2 * no + 1] = a[1] + t * (b[1] - a[1]);
+      no++;
+    }
+  }
+  return no;
+}
+
+/* area and centroid of polygon p (n vertices, counter-clockwise) */
+static void BwPolygonMoments(PetscInt n, const PetscReal p[], PetscReal *area, PetscReal c[2])
+{
+  PetscReal a = 0, cx = 0, cy = 0;
+  for (PetscInt v = 0; v < n; v++) {
+    const PetscReal *s = p + 2 * v, *t = p + 2 * ((v + 1) % n);
+    PetscReal        cr = s[0] * t[1] - t[0] * s[1];
+    a += cr;
+    cx += (s[0] + t[0]) * cr;
+    cy += (s[1] + t[1]) * cr;
+  }
+  *area = 0.5 * a;
+  c[0]  = a != 0 ? cx / (3 * a) : 0;
+  c[1]  = a != 0 ? cy / (3 * a) : 0;
+}
+
+/* The portions of one polygon into the arrays from index at; returns how many. */
+static PetscInt BwPolygonPortions(PetscInt n, const PetscReal poly[], PetscInt m, PetscInt mb, PetscReal work[], PetscReal area[], PetscReal xi[], PetscReal eta[])
+{
+  PetscReal lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, A, c[2];
+  PetscReal *w0 = work, *w1 = work + 2 * (n + 4);
+  PetscInt   np = 0;
+
+  for (PetscInt v = 0; v < n; v++)
+    for (PetscInt a = 0; a < 2; a++) {
+      lo[a] = PetscMin(lo[a], poly[2 * v + a]);
+      hi[a] = PetscMax(hi[a], poly[2 * v + a]);
+    }
+  BwPolygonMoments(n, poly, &A, c);
+  for (PetscInt j = 0; j < mb; j++)
+    for (PetscInt i = 0; i < m; i++) {
+      /* the cell's four sides; the grid lines at the box's edges are the
+       * box itself, so that round-off cuts nothing off */
+      PetscReal x0 = i ? lo[0] + (hi[0] - lo[0]) * i / m : lo[0] - 1, x1 = i + 1 < m ? lo[0] + (hi[0] - lo[0]) * (i + 1) / m : hi[0] + 1;
+      PetscReal y0 = j ? lo[1] + (hi[1] - lo[1]) * j / mb : lo[1] - 1, y1 = j + 1 < mb ? lo[1] + (hi[1] - lo[1]) * (j + 1) / mb : hi[1] + 1;
+      PetscInt  k  = n;
+      PetscReal a, cc[2];
+      memcpy(w0, poly, sizeof(PetscReal) * 2 * n);
+      k = BwClipAxis(k, w0, 0, x0, 1, w1);
+      k = BwClipAxis(k, w1, 0, x1, -1, w0);
+      k = BwClipAxis(k, w0, 1, y0, 1, w1);
+      k = BwClipAxis(k, w1, 1, y1, -1, w0);
+      if (k < 3) continue;
+      BwPolygonMoments(k, w0, &a, cc);
+      if (!(a > 1e-9 * A)) continue;
+      area[np] = a;
+      xi[np]   = cc[0];
+      eta[np]  = cc[1];
+      np++;
+    }
+  return np;
+}
+
+PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const PetscReal poly[], PetscInt m, PetscInt mb, BwPortions *P)
+{
+  PetscInt   maxv = 0, cap, used = 0;
+  PetscReal *work;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(P, sizeof(*P)));
+  P->dim         = 3;
+  P->ninterfaces = n;
+  P->maxnp       = 0;
+  for (PetscInt k = 0; k < n; k++) maxv = PetscMax(maxv, offsets[k + 1] - offsets[k]);
+  PetscCall(PetscMalloc1(4 * (maxv + 4) + 1, &work));
+  PetscCall(PetscMalloc1(n + 1, &P->layout));
+  PetscCall(PetscMalloc1(n + 1, &P->offsets));
+  cap = PetscMax(1, n) * m * mb;
+  PetscCall(PetscMalloc5(cap, &P->area, cap, &P->xi, cap, &P->eta, cap, &P->sqrt_area, cap, &P->inv_sqrt_area));
+  /* a layout per interface, except where the polygon repeats the previous
+   * interface's bit for bit (generators write runs of equal joints) */
+  for (PetscInt k = 0; k < n; k++) {
+    PetscInt nv = offsets[k + 1] - offsets[k], np;
+    if (k > 0 && nv == offsets[k] - offsets[k - 1] && !memcmp(poly + 2 * offsets[k], poly + 2 * offsets[k - 1], sizeof(PetscReal) * 2 * nv)) {
+      P->layout[k] = P->layout[k - 1];
+      continue;
+    }
+    PetscCheck(nv >= 3, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has a polygon of %" PetscInt_FMT " vertices", k, nv);
+    np = BwPolygonPortions(nv, poly + 2 * offsets[k], m, mb, work, P->area + used, P->xi + used, P->eta + used);
+    PetscCheck(np > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has zero area", k);
+    P->layout[k]             = P->nlayouts;
+    P->offsets[P->nlayouts] = used;
+    P->nlayouts++;
+    used += np;
+    P->maxnp = PetscMax(P->maxnp, np);
+  }
+  P->offsets[P->nlayouts] = used;
+  for (PetscInt p = 0; p < used; p++) {
+    P->sqrt_area[p]     = PetscSqrtReal(P->area[p]);
+    P->inv_sqrt_area[p] = 1 / P->sqrt_area[p];
+  }
+  PetscCall(PetscFree(work));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwPortionsDestroy(BwPortions *P)
 {
   PetscFunctionBeginUser;

@@ -22,6 +22,13 @@ typedef struct {
  * portions (the rectangle l x s in one row); one layout per distinct length.
  * pair[2k], pair[2k+1]: the blocks of interface k, for the message. */
 PetscErrorCode BwPortionsCreate2D(PetscInt ninterfaces, const PetscInt pair[], const PetscReal length[], PetscReal depth, PetscInt m, BwPortions *P);
+/* 3D: interface k is the convex polygon of vertices poly[2 v], poly[2 v + 1]
+ * for v in offsets[k]..offsets[k+1]-1, (xi, eta) from its centre G along t
+ * and b, counter-clockwise; it is cut by the m x mb grid of equal cells of
+ * its bounding box, and every cell's intersection of area above 1e-9 A is
+ * a portion (model.md, "Three dimensions"), numbered with the t index
+ * fastest. Interfaces of identical polygons share a layout. */
+PetscErrorCode BwPortionsCreate3D(PetscInt ninterfaces, const PetscInt offsets[], const PetscReal poly[], PetscInt m, PetscInt mb, BwPortions *P);
 PetscErrorCode BwPortionsDestroy(BwPortions *P);
 
 /* Interface k's portions: their number and the first of the arrays. */

@@ -1,0 +1,131 @@
+/* The portions of 3D interfaces (src/system/portions.c, model.md "Three
+ * dimensions": the m x m_b grid of equal cells of the polygon's bounding
+ * box, cell intersections above 1e-9 A, t index fastest), against closed
+ * forms:
+ *   rectangle  an l_t x l_b rectangle gives the kernel's equal cells
+ *              (bw_kernel_rectangle_portions) to 1e-15
+ *   triangle   a triangle about its centroid, m = m_b = 1..32: areas sum to
+ *              A and first moments to zero (1e-13), every portion inside
+ *              the triangle; the second moment sum A_p xi_p^2 tends to the
+ *              triangle's (error falling as the cells shrink); a right
+ *              triangle on a 2 x 2 grid has 3 portions (the fourth cell
+ *              meets it in a point), numbered t fastest
+ *   share      equal polygons one after the other share one layout */
+#include <math.h>
+#include <petscsys.h>
+#include "system/portions.h"
+#include "blockwall/kernels.h"
+#include "util/compat.h"
+
+static int failures = 0;
+
+static void expect_close(const char *what, double got, double want, double tol, double scale)
+{
+  double err = fabs(got - want) / (scale > 0 ? scale : 1);
+  if (!(err <= tol)) {
+    printf("FAIL %s: got %.17g, want %.17g (relative error %.3e > %.1e)\n", what, got, want, err, tol);
+    failures++;
+  }
+}
+
+static PetscErrorCode TestRectangle(void)
+{
+  const PetscReal lt = 0.3, lb = 0.12, poly[8] = {-lt / 2, -lb / 2, lt / 2, -lb / 2, lt / 2, lb / 2, -lt / 2, lb / 2};
+  const PetscInt  off[2] = {0, 4};
+  double          area[15], xi[15], eta[15];
+  int             st;
+  BwPortions      P;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwPortionsCreate3D(1, off, poly, 5, 3, &P));
+  bw_kernel_rectangle_portions(5, 3, lt, lb, area, xi, eta, &st);
+  if (BwPortionsCount(&P, 0) != 15) printf("FAIL rectangle: %d portions, want 15\n", (int)BwPortionsCount(&P, 0)), failures++;
+  for (PetscInt p = 0; p < 15 && p < BwPortionsCount(&P, 0); p++) {
+    expect_close("rectangle area", P.area[p], area[p], 1e-14, area[p]);
+    expect_close("rectangle xi", P.xi[p], xi[p], 1e-15, lt);
+    expect_close("rectangle eta", P.eta[p], eta[p], 1e-15, lb);
+  }
+  PetscCall(BwPortionsDestroy(&P));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode TestTriangle(void)
+{
+  /* vertices (0,0), (0.4,0), (0.1,0.3), moved to their centroid */
+  const PetscReal v[6] = {0, 0, 0.4, 0, 0.1, 0.3}, cx = 0.5 / 3, cy = 0.1, A = 0.5 * 0.4 * 0.3;
+  PetscReal       poly[6];
+  const PetscInt  off[2] = {0, 3};
+  /* the triangle's integral of xi^2 about its centroid: A/6 (a^2 + b^2 +
+   * c^2 + ab + bc + ca), a, b, c the vertices' xi from the centroid */
+  PetscReal x[3], Ieta, prev = PETSC_MAX_REAL;
+
+  PetscFunctionBeginUser;
+  for (int a = 0; a < 3; a++) {
+    poly[2 * a]     = v[2 * a] - cx;
+    poly[2 * a + 1] = v[2 * a + 1] - cy;
+    x[a]            = poly[2 * a];
+  }
+  Ieta = A / 6 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + x[0] * x[1] + x[1] * x[2] + x[2] * x[0]);
+  for (PetscInt m = 1; m <= 32; m *= 2) {
+    BwPortions P;
+    PetscReal  sa = 0, sx = 0, se = 0, sxx = 0;
+    PetscCall(BwPortionsCreate3D(1, off, poly, m, m, &P));
+    for (PetscInt p = 0; p < BwPortionsCount(&P, 0); p++) {
+      PetscReal l0, l1, l2, X = P.xi[p] + cx, Y = P.eta[p] + cy;
+      sa += P.area[p];
+      sx += P.area[p] * P.xi[p];
+      se += P.area[p] * P.eta[p];
+      sxx += P.area[p] * P.xi[p] * P.xi[p];
+      if (!(P.area[p] > 1e-9 * A)) printf("FAIL triangle: portion %d of area %g\n", (int)p, (double)P.area[p]), failures++;
+      /* inside: barycentric coordinates of the portion's centroid */
+      l1 = ((X - 0) * 0.3 - (Y - 0) * 0.1) / (0.4 * 0.3);
+      l2 = Y / 0.3;
+      l0 = 1 - l1 - l2;
+      if (l0 < -1e-12 || l1 < -1e-12 || l2 < -1e-12) printf("FAIL triangle: portion %d's centroid outside\n", (int)p), failures++;
+    }
+    expect_close("triangle: sum of areas", sa, A, 1e-13, A);
+    expect_close("triangle: first moment xi", sx, 0, 1e-13, A * 0.4);
+    expect_close("triangle: first moment eta", se, 0, 1e-13, A * 0.3);
+    if (m > 1 && !(fabs(sxx - Ieta) < prev)) printf("FAIL triangle: second moment error %g did not fall (was %g)\n", fabs(sxx - Ieta), prev), failures++;
+    if (m == 32 && !(fabs(sxx - Ieta) < 2e-3 * Ieta)) printf("FAIL triangle: second moment %g vs Ieta %g at m = 32\n", sxx, Ieta), failures++;
+    prev = fabs(sxx - Ieta);
+    PetscCall(BwPortionsDestroy(&P));
+  }
+  {
+    const PetscReal right[6] = {-1.0 / 3, -1.0 / 3, 2.0 / 3, -1.0 / 3, -1.0 / 3, 2.0 / 3};
+    BwPortions      P;
+    PetscCall(BwPortionsCreate3D(1, off, right, 2, 2, &P));
+    if (BwPortionsCount(&P, 0) != 3) printf("FAIL right triangle on 2 x 2: %d portions, want 3\n", (int)BwPortionsCount(&P, 0)), failures++;
+    else if (!(P.xi[1] > P.xi[0] && P.eta[2] > P.eta[0])) printf("FAIL right triangle: portions not numbered t fastest\n"), failures++;
+    PetscCall(BwPortionsDestroy(&P));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode TestShare(void)
+{
+  const PetscReal sq[8] = {-1, -1, 1, -1, 1, 1, -1, 1}, poly[24] = {-1, -1, 1, -1, 1, 1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, -2, -1, 2, -1, 2, 1, -2, 1};
+  const PetscInt  off[4] = {0, 4, 8, 12};
+  BwPortions      P;
+
+  PetscFunctionBeginUser;
+  (void)sq;
+  PetscCall(BwPortionsCreate3D(3, off, poly, 4, 2, &P));
+  if (P.nlayouts != 2 || P.layout[0] != P.layout[1] || P.layout[2] == P.layout[1]) printf("FAIL share: %d layouts (%d %d %d)\n", (int)P.nlayouts, (int)P.layout[0], (int)P.layout[1], (int)P.layout[2]), failures++;
+  PetscCall(BwPortionsDestroy(&P));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+int main(int argc, char **argv)
+{
+  const char *which;
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  which = argc > 1 ? argv[1] : "all";
+  if (!strcmp(which, "rectangle") || !strcmp(which, "all")) PetscCall(TestRectangle());
+  if (!strcmp(which, "triangle") || !strcmp(which, "all")) PetscCall(TestTriangle());
+  if (!strcmp(which, "share") || !strcmp(which, "all")) PetscCall(TestShare());
+  printf("%s: %s\n", which, failures ? "FAILED" : "passed");
+  PetscCall(PetscFinalize());
+  return failures ? 1 : 0;
+}
