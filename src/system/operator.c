@@ -27,6 +27,7 @@ typedef struct {
   PetscInt  *col;     /* 2 per interface: first dof of block i, j: local q index, nq_local + ghost index, or -1 */
   PetscReal *skt, *skn; /* per interface: sqrt(kt), sqrt(kn) */
   PetscInt  *first, *np, *row; /* per interface: its first portion in the table, its portions, its first row of y */
+  PetscBool *uniform;          /* per interface: its portions have equal areas */
   const BwPortions *portions;
   PetscReal *work;    /* 2m */
   PetscInt   nq_local;
@@ -42,6 +43,7 @@ static PetscErrorCode BwDShellDestroy(Mat A)
   PetscCall(MatShellGetContext(A, &ctx));
   PetscCall(PetscFree4(ctx->w, ctx->col, ctx->skt, ctx->skn));
   PetscCall(PetscFree4(ctx->first, ctx->np, ctx->row, ctx->work));
+  PetscCall(PetscFree(ctx->uniform));
   PetscCall(VecDestroy(&ctx->ghost));
   PetscCall(VecScatterDestroy(&ctx->scatter));
   PetscCall(PetscFree(ctx));
@@ -71,8 +73,13 @@ static inline void BwDShellMultLoop(BwDShell *ctx, const PetscScalar *ql, const 
     }
     bw_kernel_jumps(dim, (int)ctx->np[e], xi, eta, dg, ye, &status);
     for (PetscInt a = 0; a < ns; a++) sk[a] = a == 1 ? ctx->skn[e] : ctx->skt[e];
-    for (PetscInt p = 0; p < ctx->np[e]; p++)
-      for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sqa[p] * sk[a];
+    if (ctx->uniform[e]) { /* equal portions (every 2D joint): one factor per component */
+      for (PetscInt a = 0; a < ns; a++) sk[a] *= sqa[0];
+      for (PetscInt p = 0; p < ctx->np[e]; p++)
+        for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sk[a];
+    } else
+      for (PetscInt p = 0; p < ctx->np[e]; p++)
+        for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sqa[p] * sk[a];
   }
 }
 
@@ -85,8 +92,13 @@ static inline void BwDShellMultTransposeLoop(BwDShell *ctx, const PetscScalar *y
     PetscReal          f[BW_MAX_ND], sk[BW_MAX_NS];
     int                status;
     for (PetscInt a = 0; a < ns; a++) sk[a] = a == 1 ? ctx->skn[e] : ctx->skt[e];
-    for (PetscInt p = 0; p < ctx->np[e]; p++)
-      for (PetscInt a = 0; a < ns; a++) ctx->work[ns * p + a] = sk[a] * isqa[p] * PetscRealPart(ye[ns * p + a]);
+    if (ctx->uniform[e]) {
+      for (PetscInt a = 0; a < ns; a++) sk[a] *= isqa[0];
+      for (PetscInt p = 0; p < ctx->np[e]; p++)
+        for (PetscInt a = 0; a < ns; a++) ctx->work[ns * p + a] = sk[a] * PetscRealPart(ye[ns * p + a]);
+    } else
+      for (PetscInt p = 0; p < ctx->np[e]; p++)
+        for (PetscInt a = 0; a < ns; a++) ctx->work[ns * p + a] = sk[a] * isqa[p] * PetscRealPart(ye[ns * p + a]);
     bw_kernel_resultants(dim, (int)ctx->np[e], area, xi, eta, ctx->work, f, &status);
     for (PetscInt s = 0; s < 2; s++) {
       PetscInt     c = ctx->col[2 * e + s];
@@ -193,6 +205,7 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
   ctx->ns  = mx->ns;
   PetscCall(PetscMalloc4(2 * mx->nd * mx->nd * ctx->n + 1, &ctx->w, 2 * ctx->n + 1, &ctx->col, ctx->n + 1, &ctx->skt, ctx->n + 1, &ctx->skn));
   PetscCall(PetscMalloc4(ctx->n + 1, &ctx->first, ctx->n + 1, &ctx->np, ctx->n + 1, &ctx->row, mx->ns * mx->portions.maxnp, &ctx->work));
+  PetscCall(PetscMalloc1(ctx->n + 1, &ctx->uniform));
   /* blocks owned elsewhere, by their first q row, sorted and unique: the ghost layout */
   PetscCall(PetscMalloc1(2 * ctx->n + 1, &ghosts));
   for (PetscInt e = 0; e < ctx->n; e++) {
@@ -218,6 +231,7 @@ PetscErrorCode BwMixedCreateDShell(BwMixed mx, Mat *D)
     BwMixedStiffnessRoots(mx, k, &ctx->skt[e], &ctx->skn[e]);
     ctx->first[e] = BwPortionsFirst(&mx->portions, k);
     ctx->np[e]    = BwPortionsCount(&mx->portions, k);
+    ctx->uniform[e] = mx->portions.uniform[mx->portions.layout[k]];
     ctx->row[e]   = e ? ctx->row[e - 1] + mx->ns * ctx->np[e - 1] : 0;
   }
   {

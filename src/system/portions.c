@@ -4,6 +4,20 @@
 #include "util/compat.h"
 #include "blockwall/kernels.h"
 
+/* Which layouts have portions of one area (bit for bit): products then
+ * scale them by one factor per stress component. */
+static PetscErrorCode BwPortionsMarkUniform(BwPortions *P)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(P->nlayouts + 1, &P->uniform));
+  for (PetscInt l = 0; l < P->nlayouts; l++) {
+    P->uniform[l] = PETSC_TRUE;
+    for (PetscInt p = P->offsets[l] + 1; p < P->offsets[l + 1]; p++)
+      if (P->area[p] != P->area[P->offsets[l]]) P->uniform[l] = PETSC_FALSE;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Distinct lengths, exactly (equal lengths give equal portions bit for
  * bit), by an open-addressing table on their bits: linear in the number of
  * interfaces, where a wall has a handful of lengths. */
@@ -91,6 +105,7 @@ PetscErrorCode BwPortionsCreate2D(PetscInt n, const PetscInt pair[], const Petsc
   }
   P->offsets[P->nlayouts] = P->nlayouts * m;
   PetscCall(PetscFree(first));
+  PetscCall(BwPortionsMarkUniform(P));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -210,12 +225,14 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
     P->inv_sqrt_area[p] = 1 / P->sqrt_area[p];
   }
   PetscCall(PetscFree(work));
+  PetscCall(BwPortionsMarkUniform(P));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwPortionsDestroy(BwPortions *P)
 {
   PetscFunctionBeginUser;
+  PetscCall(PetscFree(P->uniform));
   PetscCall(PetscFree(P->layout));
   PetscCall(PetscFree(P->offsets));
   PetscCall(PetscFree5(P->area, P->xi, P->eta, P->sqrt_area, P->inv_sqrt_area));

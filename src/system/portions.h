@@ -16,6 +16,7 @@ typedef struct {
   PetscInt  *layout;      /* per interface: its layout */
   PetscInt  *offsets;     /* per layout: its portions offsets[l]..offsets[l+1]-1 */
   PetscReal *area, *xi, *eta, *sqrt_area, *inv_sqrt_area;
+  PetscBool *uniform;     /* per layout: all its portions have one area */
 } BwPortions;
 
 /* 2D: the interfaces of lengths length[k], depth s, each cut into m equal

@@ -98,12 +98,13 @@ static PetscErrorCode BwGhostsGather(BwMixed mx, Vec x, BwGhosts *gh)
   n = 0;
   for (PetscInt e = 0; e < gh->nint; e++) {
     PetscInt         k = gh->ints[e], np = BwPortionsCount(&mx->portions, k);
-    PetscReal        skt, skn;
+    PetscReal        skt, skn, sk[BW_MAX_NS];
     const PetscReal *isqa = mx->portions.inv_sqrt_area + BwPortionsFirst(&mx->portions, k);
     if (gh->roff[e] < 0) continue;
     BwMixedStiffnessRoots(mx, k, &skt, &skn);
+    for (PetscInt c = 0; c < ns; c++) sk[c] = c == 1 ? skn : skt;
     for (PetscInt p = 0; p < np; p++)
-      for (PetscInt c = 0; c < ns; c++) gh->r[gh->roff[e] + ns * p + c] = PetscRealPart(a[n + ns * p + c]) * (c == 1 ? skn : skt) * isqa[p];
+      for (PetscInt c = 0; c < ns; c++) gh->r[gh->roff[e] + ns * p + c] = PetscRealPart(a[n + ns * p + c]) * sk[c] * isqa[p];
     n += ns * np;
   }
   for (PetscInt e = 0; e < gh->nblk; e++) {
@@ -157,10 +158,11 @@ static PetscErrorCode BwGhostStress(BwMixed mx, const BwGhosts *gh, PetscInt k, 
   else {
     const PetscScalar *src = gh->xl + (mx->krow_r[k] - mx->kstart);
     const PetscReal   *isqa = mx->portions.inv_sqrt_area + BwPortionsFirst(&mx->portions, k);
-    PetscReal          skt, skn;
+    PetscReal          skt, skn, sk[BW_MAX_NS];
     BwMixedStiffnessRoots(mx, k, &skt, &skn);
+    for (PetscInt c = 0; c < ns; c++) sk[c] = c == 1 ? skn : skt;
     for (PetscInt p = 0; p < np; p++)
-      for (PetscInt c = 0; c < ns; c++) out[ns * p + c] = PetscRealPart(src[ns * p + c]) * (c == 1 ? skn : skt) * isqa[p];
+      for (PetscInt c = 0; c < ns; c++) out[ns * p + c] = PetscRealPart(src[ns * p + c]) * sk[c] * isqa[p];
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
