@@ -12,7 +12,7 @@ struct _n_BwSceneSet {
   char      *name;
   char       option[PETSC_MAX_OPTION_NAME + 1]; /* -sets_NAME_box or -sets_NAME_blocks, for messages */
   PetscBool  isbox;
-  PetscReal  box[4];
+  PetscReal  box[6]; /* x0, y0, z0, x1, y1, z1 (z: all of X3 unless given) */
   PetscInt   n, *blocks;
 };
 
@@ -69,6 +69,11 @@ PetscErrorCode BwGeometryDestroy(BwGeometry *geom)
   PetscCall(PetscFree(g->length));
   PetscCall(PetscFree(g->kind));
   PetscCall(PetscFree(g->kn));
+  PetscCall(PetscFree(g->volume));
+  PetscCall(PetscFree(g->frame));
+  PetscCall(PetscFree(g->iarea));
+  PetscCall(PetscFree(g->poly_offsets));
+  PetscCall(PetscFree(g->poly));
   for (PetscInt k = 0; k < g->nscenesets; k++) {
     PetscCall(PetscFree(g->scenesets[k].name));
     PetscCall(PetscFree(g->scenesets[k].blocks));
@@ -229,8 +234,10 @@ PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene)
   PetscCall(BwSceneHelpSection(scene, "Geometry (scene key geometry.*)"));
   PetscCall(BwSceneRequireMapping(scene, "-geometry", "generator, depth and the generator's keys"));
   PetscCall(BwSceneString(scene, "-geometry_generator", "Block assembly generator: two_blocks, running_bond or file", generator, sizeof(generator), NULL));
-  PetscCall(BwSceneReal(scene, "-geometry_depth", "Out-of-plane depth s of blocks and interfaces [m]", &g->depth, NULL));
+  PetscCall(BwSceneReal(scene, "-geometry_depth", "Out-of-plane depth s of blocks and interfaces (2D), thickness along X3 of the extruded blocks (3D generators) [m]", &g->depth, NULL));
   if (!(g->depth > 0)) PetscCall(BwSceneError(scene, "-geometry_depth", "must be > 0, got %g", (double)g->depth));
+  PetscCall(BwSceneInt(scene, "-geometry_dimension", "2 (blocks are polygons in X1-X2, depth along X3) or 3 (convex polyhedra; the generators extrude their 2D assembly along X3 over [0, depth])", &g->dim, &g->dim_given));
+  if (g->dim != 2 && g->dim != 3) PetscCall(BwSceneError(scene, "-geometry_dimension", "must be 2 or 3, got %" PetscInt_FMT, g->dim));
   PetscCall(PetscFunctionListFind(BwGeometryList, generator, &create));
   if (!create) {
     char         names[256] = "";
@@ -245,6 +252,12 @@ PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene)
     }
     PetscCall(PetscFree(list));
     PetscCall(BwSceneError(scene, "-geometry_generator", "must be one of %s, got '%s'", names, generator));
+  }
+  {
+    PetscBool isfile;
+    PetscCall(PetscStrcmp(generator, "file", &isfile));
+    /* the reader of 3D files (convex hulls, face detection) is the next step */
+    if (isfile && g->dim == 3) PetscCall(BwSceneError(scene, "-geometry_dimension", "= 3 is not read from a geometry file yet: generators two_blocks and running_bond make 3D assemblies"));
   }
   PetscCall(PetscNew(&g->generator));
   PetscCall((*create)(g->generator));
@@ -305,9 +318,21 @@ PetscErrorCode BwGeometrySceneSetsFromOptions(BwGeometry g, BwScene scene)
     set->isbox = hasbox;
     PetscCall(PetscStrncpy(set->option, hasbox ? optbox : optblocks, sizeof(set->option)));
     if (hasbox) {
-      if (nbox != 4) PetscCall(BwSceneError(scene, optbox, "must hold 4 numbers x0, y0, x1, y1, got %" PetscInt_FMT, nbox));
-      if (!(box[0] <= box[2] && box[1] <= box[3])) PetscCall(BwSceneError(scene, optbox, "needs x0 <= x1 and y0 <= y1, got [%g, %g, %g, %g]", (double)box[0], (double)box[1], (double)box[2], (double)box[3]));
-      PetscCall(PetscArraycpy(set->box, box, 4));
+      if (nbox == 6 && g->dim == 3) {
+        /* [x0, y0, z0, x1, y1, z1] */
+        if (!(box[0] <= box[3] && box[1] <= box[4] && box[2] <= box[5])) PetscCall(BwSceneError(scene, optbox, "needs x0 <= x1, y0 <= y1 and z0 <= z1, got [%g, %g, %g, %g, %g, %g]", (double)box[0], (double)box[1], (double)box[2], (double)box[3], (double)box[4], (double)box[5]));
+        PetscCall(PetscArraycpy(set->box, box, 6));
+      } else {
+        if (nbox != 4) PetscCall(BwSceneError(scene, optbox, g->dim == 3 ? "must hold 4 numbers x0, y0, x1, y1 (any x3) or 6 numbers x0, y0, z0, x1, y1, z1, got %" PetscInt_FMT : "must hold 4 numbers x0, y0, x1, y1, got %" PetscInt_FMT, nbox));
+        if (!(box[0] <= box[2] && box[1] <= box[3])) PetscCall(BwSceneError(scene, optbox, "needs x0 <= x1 and y0 <= y1, got [%g, %g, %g, %g]", (double)box[0], (double)box[1], (double)box[2], (double)box[3]));
+        /* the x-y box over every x3 */
+        set->box[0] = box[0];
+        set->box[1] = box[1];
+        set->box[2] = PETSC_MIN_REAL;
+        set->box[3] = box[2];
+        set->box[4] = box[3];
+        set->box[5] = PETSC_MAX_REAL;
+      }
       PetscCall(PetscFree(box));
     } else {
       if (!set->n) PetscCall(BwSceneError(scene, optblocks, "set '%s' is empty: it lists no block", names[k]));
@@ -324,15 +349,15 @@ PetscErrorCode BwGeometrySceneSetsFromOptions(BwGeometry g, BwScene scene)
  * errors naming the key. */
 static PetscErrorCode BwGeometryMakeSceneSets(BwGeometry g, BwScene scene)
 {
-  PetscReal lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, tol;
-  PetscInt *found;
+  PetscReal lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, 0}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, 0}, tol;
+  PetscInt *found, dim = g->dim;
 
   PetscFunctionBeginUser;
   if (!g->nscenesets) PetscFunctionReturn(PETSC_SUCCESS);
   for (PetscInt b = 0; b < g->nblocks; b++)
-    for (int d = 0; d < 2; d++) {
-      lo[d] = PetscMin(lo[d], g->centroid[2 * b + d]);
-      hi[d] = PetscMax(hi[d], g->centroid[2 * b + d]);
+    for (int d = 0; d < dim; d++) {
+      lo[d] = PetscMin(lo[d], g->centroid[dim * b + d]);
+      hi[d] = PetscMax(hi[d], g->centroid[dim * b + d]);
     }
   /* a centroid on the box's edge as written (0.3) may be computed a few ulps
    * outside it (0.30000000000000004): the closed box is widened by round-off */
@@ -353,10 +378,15 @@ static PetscErrorCode BwGeometryMakeSceneSets(BwGeometry g, BwScene scene)
     if (set->isbox) {
       const PetscReal *q = set->box;
       for (PetscInt b = 0; b < g->nblocks; b++) {
-        const PetscReal *c = &g->centroid[2 * b];
-        if (c[0] >= q[0] - tol && c[0] <= q[2] + tol && c[1] >= q[1] - tol && c[1] <= q[3] + tol) found[nf++] = b;
+        const PetscReal *c = &g->centroid[dim * b];
+        PetscReal        z = dim == 3 ? c[2] : 0;
+        if (c[0] >= q[0] - tol && c[0] <= q[3] + tol && c[1] >= q[1] - tol && c[1] <= q[4] + tol && z >= q[2] - tol && z <= q[5] + tol) found[nf++] = b;
       }
-      if (!nf) PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g] (centroids span [%g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[2], (double)q[3], (double)lo[0], (double)lo[1], (double)hi[0], (double)hi[1]));
+      if (!nf) {
+        if (q[2] > PETSC_MIN_REAL)
+          PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g, %g, %g] (centroids span [%g, %g, %g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[2], (double)q[3], (double)q[4], (double)q[5], (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0], (double)hi[1], (double)hi[2]));
+        PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g] (centroids span [%g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[3], (double)q[4], (double)lo[0], (double)lo[1], (double)hi[0], (double)hi[1]));
+      }
     } else {
       /* where each block was listed first (-1: not yet): linear in the
        * list, however long */
@@ -383,6 +413,84 @@ PetscErrorCode BwGeometrySetUp(BwGeometry g, BwScene scene, PetscReal thickness)
   PetscFunctionBeginUser;
   PetscCall(g->generator->generate(g->generator, g, scene, thickness));
   PetscCall(BwGeometryComputeCentroids(g));
+  if (g->dim == 3) PetscCall(BwGeometryExtrude(g));
   PetscCall(BwGeometryMakeSceneSets(g, scene));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGeometryExtrude(BwGeometry g)
+{
+  const PetscReal s = g->depth;
+  PetscReal      *v3, *c3;
+  PetscInt        nb = g->nblocks, ni = g->ninterfaces;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(3 * 2 * (size_t)g->nvertices, &v3));
+  for (PetscInt b = 0; b < nb; b++) {
+    const PetscInt o = g->offsets[b], nv = g->offsets[b + 1] - o;
+    for (PetscInt k = 0; k < nv; k++)
+      for (PetscInt top = 0; top < 2; top++) {
+        PetscReal *p = v3 + 3 * (2 * o + top * nv + k);
+        p[0]         = g->vertices[2 * (o + k)];
+        p[1]         = g->vertices[2 * (o + k) + 1];
+        p[2]         = top ? s : 0;
+      }
+  }
+  for (PetscInt b = 0; b <= nb; b++) g->offsets[b] *= 2;
+  g->nvertices *= 2;
+  g->maxvertices = g->nvertices;
+  PetscCall(PetscFree(g->vertices));
+  g->vertices = v3;
+
+  PetscCall(PetscMalloc1(3 * (size_t)nb, &c3));
+  PetscCall(PetscMalloc1(nb, &g->volume));
+  for (PetscInt b = 0; b < nb; b++) {
+    c3[3 * b]     = g->centroid[2 * b];
+    c3[3 * b + 1] = g->centroid[2 * b + 1];
+    c3[3 * b + 2] = s / 2;
+    g->volume[b]  = g->area[b] * s;
+  }
+  PetscCall(PetscFree(g->centroid));
+  PetscCall(PetscFree(g->area));
+  g->centroid = c3;
+  g->maxblocks = nb;
+
+  PetscCall(PetscMalloc1(3 * (size_t)ni, &c3));
+  PetscCall(PetscMalloc1(9 * (size_t)ni, &g->frame));
+  PetscCall(PetscMalloc1(ni, &g->iarea));
+  PetscCall(PetscMalloc1(ni + 1, &g->poly_offsets));
+  PetscCall(PetscMalloc1(12 * (size_t)ni, &g->poly));
+  for (PetscInt k = 0; k < ni; k++) {
+    const PetscReal c = PetscCosReal(g->angle[k]), sn = PetscSinReal(g->angle[k]), h = g->length[k] / 2;
+    const PetscReal t[3] = {c, sn, 0}, n[3] = {-sn, c, 0}, bb[3] = {0, 0, 1};
+    /* corners (xi, eta) = (-h, -s/2), (-h, s/2), (h, s/2), (h, -s/2): counter-clockwise about n (t x b = -n) */
+    const PetscReal xi[4] = {-h, -h, h, h}, eta[4] = {-s / 2, s / 2, s / 2, -s / 2};
+    PetscReal      *G = c3 + 3 * k;
+
+    G[0] = g->center[2 * k];
+    G[1] = g->center[2 * k + 1];
+    G[2] = s / 2;
+    for (int a = 0; a < 3; a++) {
+      g->frame[9 * k + a]     = t[a];
+      g->frame[9 * k + 3 + a] = n[a];
+      g->frame[9 * k + 6 + a] = bb[a];
+    }
+    g->iarea[k]            = g->length[k] * s;
+    g->poly_offsets[k]     = 4 * k;
+    for (int v = 0; v < 4; v++)
+      for (int a = 0; a < 3; a++) g->poly[3 * (4 * k + v) + a] = G[a] + xi[v] * t[a] + eta[v] * bb[a];
+  }
+  g->poly_offsets[ni] = 4 * ni;
+  PetscCall(PetscFree(g->center));
+  PetscCall(PetscFree(g->angle));
+  PetscCall(PetscFree(g->length));
+  g->center        = c3;
+  g->maxinterfaces = ni;
+  g->dim           = 3;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscReal BwGeometryBlockSize(BwGeometry g, PetscInt b)
+{
+  return g->dim == 3 ? PetscCbrtReal(g->volume[b]) : PetscSqrtReal(g->area[b]);
 }

@@ -26,7 +26,8 @@ struct _n_BwGeometry {
   PetscInt  *offsets;  /* nblocks+1: block b has vertices offsets[b]..offsets[b+1]-1 */
   PetscReal *vertices; /* 2 per vertex, counter-clockwise */
   PetscReal *centroid; /* 2 per block */
-  PetscReal *area;     /* per block */
+  PetscReal *area;     /* per block (2D: of the polygon; 3D: NULL) */
+  PetscReal *volume;   /* 3D: per block */
   /* interfaces */
   PetscInt     ninterfaces;
   PetscInt    *pair;   /* 2 per interface: blocks i < j, n points from i into j */
@@ -35,6 +36,13 @@ struct _n_BwGeometry {
   PetscReal   *length; /* l [m] */
   BwJointKind *kind;   /* which joint law applies */
   PetscReal   *kn, *kt; /* per-interface stiffness given by the geometry (file), or NULL */
+  /* 3D interfaces (NULL in 2D, where angle and length describe them; in 3D
+   * angle and length are NULL) */
+  PetscReal *frame;        /* 9 per interface: rows t, n, b (model.md's frame rule) */
+  PetscReal *iarea;        /* per interface: area A of its polygon */
+  PetscInt  *poly_offsets; /* ninterfaces+1 */
+  PetscReal *poly;         /* 3 per vertex: the interface polygons on the mid-plane, counter-clockwise about n */
+  PetscBool  dim_given;    /* geometry.dimension was in the scene */
   /* named block sets, CSR */
   PetscInt   nsets;
   char     **setname;
@@ -79,6 +87,14 @@ PetscErrorCode BwGeometryAddInterface(BwGeometry geom, PetscInt i, PetscInt j, c
 PetscErrorCode BwGeometryAddSet(BwGeometry geom, const char name[], PetscInt n, const PetscInt blocks[]);
 /* Centroids and areas from the polygons (shoelace formula). */
 PetscErrorCode BwGeometryComputeCentroids(BwGeometry geom);
+/* A 2D geometry extruded along X3 over [0, depth] into a 3D one: prisms in
+ * the same order (bottom ring, then top ring), centroids at depth/2,
+ * volumes, each interface the l x depth rectangle of its 2D segment with
+ * the frame t = (cos, sin, 0), n = (-sin, cos, 0), b = X3 (the frame rule
+ * of model.md gives this frame for these normals). Sets are unchanged. */
+PetscErrorCode BwGeometryExtrude(BwGeometry geom);
+/* A length of block b: sqrt(area) in 2D, cbrt(volume) in 3D. */
+PetscReal BwGeometryBlockSize(BwGeometry geom, PetscInt b);
 PetscErrorCode BwGeometryFindSet(BwGeometry geom, const char name[], PetscInt *set);
 /* Comma-separated list of the set names, for error messages. */
 PetscErrorCode BwGeometryGetSetNames(BwGeometry geom, char buf[], size_t len);

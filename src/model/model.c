@@ -13,12 +13,22 @@
 
 #define BW_GRAVITY 9.81
 
+static const char *const BwDofNames2D[3] = {"u1", "u2", "w"};
+static const char *const BwDofNames3D[6] = {"u1", "u2", "u3", "w1", "w2", "w3"};
+
+const char *const *BwModelDofNames(BwModel model)
+{
+  return model->nd == 6 ? BwDofNames3D : BwDofNames2D;
+}
+
 PetscErrorCode BwModelCreate(MPI_Comm comm, BwModel *model)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscNew(model));
   (*model)->comm = comm;
   (*model)->m    = 16;
+  (*model)->mb   = 1;
+  (*model)->nd   = 3;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -79,12 +89,12 @@ static PetscErrorCode BwModelUnknownSet(BwModel model, BwScene scene, const BwNa
     if (loads) {
       PetscReal *f;
       PetscInt   n;
-      PetscCall(BwSceneRealArray(scene, opt, "F1, F2, M3", &f, &n, NULL));
+      PetscCall(BwSceneRealArray(scene, opt, model->nd == 6 ? "F1, F2, F3, M1, M2, M3" : "F1, F2, M3", &f, &n, NULL));
       PetscCall(PetscFree(f));
     } else {
-      static const char *const dofs[3] = {"u1", "u2", "w"};
-      PetscCall(BwSceneRequireMapping(scene, opt, "u1, u2, w: prescribed values"));
-      for (int c = 0; c < 3; c++) {
+      const char *const *dofs = BwModelDofNames(model);
+      PetscCall(BwSceneRequireMapping(scene, opt, model->nd == 6 ? "u1, u2, u3, w1, w2, w3: prescribed values" : "u1, u2, w: prescribed values"));
+      for (int c = 0; c < model->nd; c++) {
         char      dof[PETSC_MAX_OPTION_NAME + 4];
         PetscReal v;
         PetscCall(PetscSNPrintf(dof, sizeof(dof), "%s_%s", opt, dofs[c]));
@@ -124,12 +134,15 @@ PetscErrorCode BwModelReadLoads(BwModel model, BwScene scene, const char prefix[
   size_t     plen;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscArrayzero(load, 3 * g->nblocks));
+  const PetscInt    nd    = model->nd;
+  const char *const what  = nd == 6 ? "F1, F2, F3, M1, M2, M3" : "F1, F2, M3";
+
+  PetscCall(PetscArrayzero(load, nd * g->nblocks));
   PetscCall(BwModelSetMap(g, &sets));
-  /* loads.<set> = [F1, F2, M3] on every block of the set */
+  /* loads.<set> = [F1, F2, M3] | [F1, F2, F3, M1, M2, M3] on every block of the set */
   PetscCall(PetscSNPrintf(key, sizeof(key), "%sloads_", prefix));
   PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%sloads", prefix));
-  PetscCall(BwSceneRequireMapping(scene, opt, "block set: [F1, F2, M3]"));
+  PetscCall(BwSceneRequireMapping(scene, opt, nd == 6 ? "block set: [F1, F2, F3, M1, M2, M3]" : "block set: [F1, F2, M3]"));
   PetscCall(BwSceneListOptions(scene, key, &n, &names));
   plen = strlen(key);
   for (PetscInt o = 0; o < n; o++) {
@@ -140,10 +153,13 @@ PetscErrorCode BwModelReadLoads(BwModel model, BwScene scene, const char prefix[
     BwModelParseSetKey(&sets, names[o], plen, 1, none, &s, &which);
     if (s < 0) PetscCall(BwModelUnknownSet(model, scene, &sets, names[o], plen, PETSC_TRUE, "does not name a block set"));
     PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", names[o]));
-    PetscCall(BwSceneRealArray(scene, opt, "F1, F2, M3 on every block of the set [N, N, N m]", &f, &nf, NULL));
-    if (nf != 3) PetscCall(BwSceneError(scene, opt, "must have 3 values F1, F2, M3, got %" PetscInt_FMT, nf));
+    PetscCall(BwSceneRealArray(scene, opt, nd == 6 ? "F1, F2, F3, M1, M2, M3 on every block of the set [N, N m]" : "F1, F2, M3 on every block of the set [N, N, N m]", &f, &nf, NULL));
+    if (nf != nd) {
+      if (nf == 9 - nd) PetscCall(BwSceneError(scene, opt, "has %" PetscInt_FMT " values, a load of a %s scene; this scene is %s: %" PetscInt_FMT " values %s", nf, nd == 6 ? "2D" : "3D", nd == 6 ? "3D" : "2D", nd, what));
+      PetscCall(BwSceneError(scene, opt, "must have %" PetscInt_FMT " values %s, got %" PetscInt_FMT, nd, what, nf));
+    }
     for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++)
-      for (PetscInt c = 0; c < 3; c++) load[3 * g->setblocks[q] + c] += f[c];
+      for (PetscInt c = 0; c < nd; c++) load[nd * g->setblocks[q] + c] += f[c];
     PetscCall(PetscFree(f));
   }
   PetscCall(PetscStrArrayDestroy(&names));
@@ -157,7 +173,10 @@ PetscErrorCode BwModelReadLoads(BwModel model, BwScene scene, const char prefix[
     PetscCall(BwSceneReal(scene, opt, "Block density of this case [kg/m^3]", &density, &set));
     if (set && !(density >= 0)) PetscCall(BwSceneError(scene, opt, "must be >= 0, got %g", (double)density));
   }
-  for (PetscInt b = 0; b < g->nblocks; b++) load[3 * b + 1] -= density * BW_GRAVITY * g->area[b] * g->depth;
+  if (g->dim == 3)
+    for (PetscInt b = 0; b < g->nblocks; b++) load[nd * b + 1] -= density * BW_GRAVITY * g->volume[b];
+  else
+    for (PetscInt b = 0; b < g->nblocks; b++) load[nd * b + 1] -= density * BW_GRAVITY * g->area[b] * g->depth;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -214,7 +233,8 @@ PetscErrorCode BwModelAllocate(BwModel model, BwGeometry g)
   PetscCheck(!model->geom, model->comm, PETSC_ERR_ORDER, "BwModelAllocate: the model already has a geometry");
   model->geom = g;
   PetscCall(PetscCalloc2(ni, &model->kn, ni, &model->kt));
-  PetscCall(PetscCalloc3(3 * nb, &model->prescribed, 3 * nb, &model->value, 3 * nb, &model->load));
+  model->nd = g->dim == 3 ? 6 : 3;
+  PetscCall(PetscCalloc3(model->nd * nb, &model->prescribed, model->nd * nb, &model->value, model->nd * nb, &model->load));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -251,35 +271,74 @@ PetscErrorCode BwModelSetUp(BwModel model, BwGeometry g, BwScene scene)
     if (law->strength) model->nonlinear = PETSC_TRUE;
   }
 
-  /* Supports: supports.<set>.{u1,u2,w} = prescribed value. */
-  PetscCall(BwSceneHelpSection(scene, "Supports (scene key supports.<set>.{u1,u2,w}: prescribed value [m or rad], 0 = fixed)"));
-  PetscCall(BwSceneRequireMapping(scene, "-supports", "block set: {u1: value, u2: value, w: value}"));
-  PetscCall(BwModelSetMap(g, &sets));
-  PetscCall(BwSceneListOptions(scene, "supports_", &n, &names));
-  for (PetscInt o = 0; o < n; o++) {
-    const char *const suffix[3] = {"_u1", "_u2", "_w"};
-    char              opt[PETSC_MAX_OPTION_NAME + 1];
-    PetscInt          s, c;
-    PetscReal         v = 0;
+  /* discretization.m_b: 3D only */
+  {
+    PetscInt  mb = 4;
+    PetscBool set;
+    PetscCall(BwSceneInt(scene, "-discretization_m_b", "3D: portions m_b along b per interface (default 4)", &mb, &set));
+    if (set && g->dim != 3) PetscCall(BwSceneError(scene, "-discretization_m_b", "has no meaning in 2D (the portions of a 2D interface are one row along t); it is a key of 3D scenes (geometry.dimension: 3)"));
+    if (g->dim == 3) {
+      if (mb < 1) PetscCall(BwSceneError(scene, "-discretization_m_b", "must be >= 1, got %" PetscInt_FMT, mb));
+      if (mb > 1048576) PetscCall(BwSceneError(scene, "-discretization_m_b", "must be <= 1048576, got %" PetscInt_FMT, mb));
+      model->mb = mb;
+    }
+  }
 
-    BwModelParseSetKey(&sets, names[o], strlen("supports_"), 3, suffix, &s, &c);
-    if (s < 0) PetscCall(BwModelUnknownSet(model, scene, &sets, names[o], strlen("supports_"), PETSC_FALSE, "does not name a block set and a dof u1, u2 or w"));
-    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-supports_%s", g->setname[s]));
-    PetscCall(BwSceneRequireMapping(scene, opt, "u1, u2, w: prescribed values"));
-    PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", names[o]));
-    PetscCall(BwSceneReal(scene, opt, "Prescribed dof of every block of the set [m or rad]", &v, NULL));
-    for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++) {
-      PetscInt b = g->setblocks[q];
-      if (model->prescribed[3 * b + c] && model->value[3 * b + c] != v)
-        PetscCall(BwSceneError(scene, opt, "prescribes %g on block %" PetscInt_FMT ", which another set already prescribes to %g", (double)v, b, (double)model->value[3 * b + c]));
-      model->prescribed[3 * b + c] = PETSC_TRUE;
-      model->value[3 * b + c]      = v;
+  /* Supports: supports.<set>.<dof> = prescribed value. A dof of the other
+   * dimension (w in 3D, u3 or w1 in 2D) is named as such. */
+  {
+    const PetscInt     nd = model->nd;
+    const char *const *dofs = BwModelDofNames(model), *const *other = nd == 6 ? BwDofNames2D : BwDofNames3D;
+    const char        *dofs_list = nd == 6 ? "u1, u2, u3, w1, w2, w3" : "u1, u2, w";
+    char               help[128], suffix_buf[6][8], other_buf[6][8];
+    const char        *suffix[6], *osuffix[6];
+
+    for (PetscInt c = 0; c < nd; c++) {
+      PetscCall(PetscSNPrintf(suffix_buf[c], sizeof(suffix_buf[c]), "_%s", dofs[c]));
+      suffix[c] = suffix_buf[c];
+    }
+    for (PetscInt c = 0; c < 9 - nd; c++) {
+      PetscCall(PetscSNPrintf(other_buf[c], sizeof(other_buf[c]), "_%s", other[c]));
+      osuffix[c] = other_buf[c];
+    }
+    PetscCall(PetscSNPrintf(help, sizeof(help), "Supports (scene key supports.<set>.{%s}: prescribed value [m or rad], 0 = fixed)", dofs_list));
+    PetscCall(BwSceneHelpSection(scene, help));
+    PetscCall(PetscSNPrintf(help, sizeof(help), "block set: {%s: value, ...}", dofs_list));
+    PetscCall(BwSceneRequireMapping(scene, "-supports", help));
+    PetscCall(BwModelSetMap(g, &sets));
+    PetscCall(BwSceneListOptions(scene, "supports_", &n, &names));
+    for (PetscInt o = 0; o < n; o++) {
+      char      opt[PETSC_MAX_OPTION_NAME + 1], msg[128];
+      PetscInt  s, c;
+      PetscReal v = 0;
+
+      BwModelParseSetKey(&sets, names[o], strlen("supports_"), nd, suffix, &s, &c);
+      if (s < 0) {
+        PetscInt so, co;
+        BwModelParseSetKey(&sets, names[o], strlen("supports_"), 9 - nd, osuffix, &so, &co);
+        PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", names[o]));
+        if (so >= 0) PetscCall(BwSceneError(scene, opt, "names dof %s, which has no meaning in %s: the dofs of a %s scene are %s", other[co], nd == 6 ? "3D" : "2D", nd == 6 ? "3D" : "2D", dofs_list));
+        PetscCall(PetscSNPrintf(msg, sizeof(msg), "does not name a block set and a dof %s", dofs_list));
+        PetscCall(BwModelUnknownSet(model, scene, &sets, names[o], strlen("supports_"), PETSC_FALSE, msg));
+      }
+      PetscCall(PetscSNPrintf(opt, sizeof(opt), "-supports_%s", g->setname[s]));
+      PetscCall(PetscSNPrintf(help, sizeof(help), "%s: prescribed values", dofs_list));
+      PetscCall(BwSceneRequireMapping(scene, opt, help));
+      PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", names[o]));
+      PetscCall(BwSceneReal(scene, opt, "Prescribed dof of every block of the set [m or rad]", &v, NULL));
+      for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++) {
+        PetscInt b = g->setblocks[q];
+        if (model->prescribed[nd * b + c] && model->value[nd * b + c] != v)
+          PetscCall(BwSceneError(scene, opt, "prescribes %g on block %" PetscInt_FMT ", which another set already prescribes to %g", (double)v, b, (double)model->value[nd * b + c]));
+        model->prescribed[nd * b + c] = PETSC_TRUE;
+        model->value[nd * b + c]      = v;
+      }
     }
   }
   PetscCall(PetscStrArrayDestroy(&names));
   PetscCall(BwNameMapDestroy(&sets));
 
-  PetscCall(BwSceneHelpSection(scene, "Loads (scene key loads.<set>: [F1, F2, M3] at each block's centroid [N, N, N m])"));
+  PetscCall(BwSceneHelpSection(scene, model->nd == 6 ? "Loads (scene key loads.<set>: [F1, F2, F3, M1, M2, M3] at each block's centroid [N, N m])" : "Loads (scene key loads.<set>: [F1, F2, M3] at each block's centroid [N, N, N m])"));
   PetscCall(BwModelSetLoads(model, scene, ""));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

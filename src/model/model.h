@@ -2,9 +2,11 @@
  *
  *   joint laws   one per interface kind (bed, head, unit), BwJointLaw
  *   portions     m per interface (discretization.m)
- *   supports     block set -> prescribed dofs (u1, u2, w) and their values
- *   loads        block set -> (F1, F2, M3) at each block's centroid, plus the
- *                self-weight -density * 9.81 * area * depth on F2
+ *   supports     block set -> prescribed dofs and their values: (u1, u2, w)
+ *                in 2D, (u1, u2, u3, w1, w2, w3) in 3D
+ *   loads        block set -> (F1, F2, M3) | (F1, F2, F3, M1, M2, M3) at each
+ *                block's centroid, plus the self-weight on F2:
+ *                -density * 9.81 * area * depth (2D) | * volume (3D)
  *
  * Per block it holds which dofs are prescribed, their values and the total
  * applied load; per interface the elastic stiffness (kn, kt) that scales
@@ -19,13 +21,15 @@ struct _n_BwModel {
   MPI_Comm   comm;
   BwGeometry geom;
   PetscInt   m;
+  PetscInt   mb;    /* 3D: portions along b (discretization.m_b); 1 in 2D */
+  PetscInt   nd;    /* dofs per block: 3 (2D) | 6 (3D) */
   PetscReal  gravity_density;
   BwJointLaw law[BW_JOINT_NKINDS]; /* joints.*, joints.head.*, joints.unit.* (NULL where no interface has the kind) */
   PetscBool  nonlinear;            /* a law has a strength */
   PetscReal *kn, *kt;     /* per interface: the elastic stiffness that scales its stresses [N/m^3] */
-  PetscBool *prescribed;  /* 3 per block */
-  PetscReal *value;       /* 3 per block: prescribed value (0 where free) */
-  PetscReal *load;        /* 3 per block: F1, F2, M3 applied, self-weight included */
+  PetscBool *prescribed;  /* nd per block */
+  PetscReal *value;       /* nd per block: prescribed value (0 where free) */
+  PetscReal *load;        /* nd per block: forces and moments applied, self-weight included */
 };
 
 PetscErrorCode BwModelCreate(MPI_Comm comm, BwModel *model);
@@ -45,10 +49,12 @@ PetscErrorCode BwModelInterfaceLaw(BwModel model, PetscInt k, BwJointLaw *law, P
  * <prefix>gravity.density if given, else gravity.density), replacing the
  * current ones: prefix "" for the scene's loads, "cases_NAME_" for a case. */
 PetscErrorCode BwModelSetLoads(BwModel model, BwScene scene, const char prefix[]);
-/* The same into load[] (3 per block): <prefix>loads.<set>, and with
+/* The same into load[] (nd per block): <prefix>loads.<set>, and with
  * `gravity` the self-weight as above. */
 PetscErrorCode BwModelReadLoads(BwModel model, BwScene scene, const char prefix[], PetscBool gravity, PetscReal load[]);
 /* Whether the joint laws' tangents stay symmetric: no law with strength
  * has dilatancy other than its friction (non-associated flow). */
 PetscBool BwModelTangentSymmetric(BwModel model);
+/* The names of the nd dofs of a block: u1, u2, w | u1, u2, u3, w1, w2, w3. */
+const char *const *BwModelDofNames(BwModel model);
 PetscErrorCode BwModelDestroy(BwModel *model);

@@ -100,6 +100,123 @@ PetscErrorCode BwOutputSetFromOptions(BwOutput out, BwScene scene)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The portions of the owned interfaces as rows of /portions (their global
+ * numbering follows /interfaces/portion_offsets). */
+static PetscErrorCode BwOutputPortionRows(const BwMixedOwnership *own, int64_t **offsets, PetscInt *nrows, PetscInt **rows)
+{
+  const BwPortions *P = own->portions;
+  PetscInt          ni = own->ninterfaces, n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(ni + 1, offsets));
+  (*offsets)[0] = 0;
+  for (PetscInt k = 0; k < ni; k++) (*offsets)[k + 1] = (*offsets)[k] + BwPortionsCount(P, k);
+  for (PetscInt e = 0; e < own->nown_interfaces; e++) n += BwPortionsCount(P, own->own_interfaces[e]);
+  PetscCall(PetscMalloc1(n + 1, rows));
+  *nrows = 0;
+  for (PetscInt e = 0; e < own->nown_interfaces; e++) {
+    PetscInt k = own->own_interfaces[e];
+    for (int64_t p = (*offsets)[k]; p < (*offsets)[k + 1]; p++) (*rows)[(*nrows)++] = (PetscInt)p;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The 3D schema (interface.md, "HDF5 output, 3D"): geometry replicated,
+ * results at their input indices, portions ragged. */
+static PetscErrorCode BwOutputWrite3D(BwOutput out, BwH5File h, const BwOutputData *data, const BwMixedOwnership *own, BwModel model)
+{
+  BwGeometry       geom = model->geom;
+  const BwResults *res  = data->results;
+  const PetscInt   nb = geom->nblocks, ni = geom->ninterfaces, nd = own->nd;
+  hsize_t          dims[3];
+  int64_t         *i64, *pofs = NULL;
+  signed char     *i8;
+  PetscInt         nrows = 0, *rows = NULL;
+
+  PetscFunctionBeginUser;
+  dims[0] = (hsize_t)geom->offsets[nb];
+  dims[1] = 3;
+  PetscCall(BwH5FileWriteAll(h, "/blocks/vertices", H5T_NATIVE_DOUBLE, 2, dims, geom->vertices));
+  PetscCall(PetscMalloc1(PetscMax(nb + 1, PetscMax(2 * ni, ni + 1)) + 1, &i64));
+  for (PetscInt b = 0; b <= nb; b++) i64[b] = geom->offsets[b];
+  dims[0] = (hsize_t)nb + 1;
+  PetscCall(BwH5FileWriteAll(h, "/blocks/offsets", H5T_NATIVE_INT64, 1, dims, i64));
+  dims[0] = (hsize_t)nb;
+  dims[1] = 3;
+  PetscCall(BwH5FileWriteAll(h, "/blocks/centroid", H5T_NATIVE_DOUBLE, 2, dims, geom->centroid));
+  dims[1] = (hsize_t)nd;
+  PetscCall(BwH5FileWriteAll(h, "/blocks/load", H5T_NATIVE_DOUBLE, 2, dims, data->load));
+  PetscCall(PetscMalloc1(nd * nb + 1, &i8));
+  for (PetscInt e = 0; e < nd * nb; e++) i8[e] = model->prescribed[e] ? 1 : 0;
+  PetscCall(BwH5FileWriteAll(h, "/blocks/prescribed", H5T_NATIVE_SCHAR, 2, dims, i8));
+  PetscCall(PetscFree(i8));
+  for (PetscInt e = 0; e < 2 * ni; e++) i64[e] = geom->pair[e];
+  dims[0] = (hsize_t)ni;
+  dims[1] = 2;
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/blocks", H5T_NATIVE_INT64, 2, dims, i64));
+  dims[1] = 3;
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/center", H5T_NATIVE_DOUBLE, 2, dims, geom->center));
+  dims[2] = 3;
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/frame", H5T_NATIVE_DOUBLE, 3, dims, geom->frame));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/area", H5T_NATIVE_DOUBLE, 1, dims, geom->iarea));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/kn", H5T_NATIVE_DOUBLE, 1, dims, model->kn));
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/kt", H5T_NATIVE_DOUBLE, 1, dims, model->kt));
+  for (PetscInt k = 0; k <= ni; k++) i64[k] = geom->poly_offsets[k];
+  dims[0] = (hsize_t)ni + 1;
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/offsets", H5T_NATIVE_INT64, 1, dims, i64));
+  dims[0] = (hsize_t)geom->poly_offsets[ni];
+  dims[1] = 3;
+  PetscCall(BwH5FileWriteAll(h, "/interfaces/vertices", H5T_NATIVE_DOUBLE, 2, dims, geom->poly));
+  PetscCall(PetscFree(i64));
+  for (PetscInt s = 0; s < geom->nsets; s++) {
+    char     name[PETSC_MAX_PATH_LEN];
+    PetscInt n = geom->setoffsets[s + 1] - geom->setoffsets[s];
+    PetscCall(PetscMalloc1(n + 1, &i64));
+    for (PetscInt e = 0; e < n; e++) i64[e] = geom->setblocks[geom->setoffsets[s] + e];
+    PetscCall(PetscSNPrintf(name, sizeof(name), "/sets/%s", geom->setname[s]));
+    dims[0] = (hsize_t)n;
+    PetscCall(BwH5FileWriteAll(h, name, H5T_NATIVE_INT64, 1, dims, i64));
+    PetscCall(PetscFree(i64));
+  }
+
+  dims[0] = (hsize_t)nb;
+  dims[1] = (hsize_t)nd;
+  PetscCall(BwH5FileWrite(h, "/blocks/displacement", H5T_NATIVE_DOUBLE, 2, dims, own->nown_blocks, own->own_blocks, res->displacement));
+  PetscCall(BwH5FileWrite(h, "/blocks/reaction", H5T_NATIVE_DOUBLE, 2, dims, own->nown_blocks, own->own_blocks, res->reaction));
+  dims[0] = (hsize_t)ni;
+  PetscCall(BwH5FileWrite(h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, own->nown_interfaces, own->own_interfaces, res->relative));
+  PetscCall(BwH5FileWrite(h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, own->nown_interfaces, own->own_interfaces, res->resultant));
+  if (out->stresses) {
+    const BwPortions *P = own->portions;
+    PetscReal        *cen, *area;
+    PetscInt          n = 0;
+
+    PetscCall(BwH5FileGroup(h, "/portions"));
+    PetscCall(BwOutputPortionRows(own, &pofs, &nrows, &rows));
+    dims[0] = (hsize_t)ni + 1;
+    PetscCall(BwH5FileWriteAll(h, "/interfaces/portion_offsets", H5T_NATIVE_INT64, 1, dims, pofs));
+    PetscCall(PetscMalloc2(2 * nrows + 1, &cen, nrows + 1, &area));
+    for (PetscInt e = 0; e < own->nown_interfaces; e++) {
+      PetscInt k = own->own_interfaces[e], f = BwPortionsFirst(P, k), np = BwPortionsCount(P, k);
+      for (PetscInt p = f; p < f + np; p++, n++) {
+        cen[2 * n]     = P->xi[p];
+        cen[2 * n + 1] = P->eta[p];
+        area[n]        = P->area[p];
+      }
+    }
+    dims[0] = (hsize_t)pofs[ni];
+    dims[1] = 2;
+    PetscCall(BwH5FileWrite(h, "/portions/center", H5T_NATIVE_DOUBLE, 2, dims, nrows, rows, cen));
+    PetscCall(BwH5FileWrite(h, "/portions/area", H5T_NATIVE_DOUBLE, 1, dims, nrows, rows, area));
+    dims[1] = 3;
+    PetscCall(BwH5FileWrite(h, "/portions/stress", H5T_NATIVE_DOUBLE, 2, dims, nrows, rows, res->stress));
+    PetscCall(PetscFree2(cen, area));
+    PetscCall(PetscFree(rows));
+    PetscCall(PetscFree(pofs));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutputData *data, const BwOutputHistory *hist, PetscBool have_steps, BwLog *log)
 {
   BwModel          model;
@@ -128,62 +245,65 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutput
   PetscCall(BwH5FileGroup(h, "/solver"));
   if (out->xdmf && !have_steps) PetscCall(BwH5FileGroup(h, "/xdmf"));
 
-  /* input schema, replicated */
-  dims[0] = (hsize_t)geom->offsets[nb];
-  dims[1] = 2;
-  PetscCall(BwH5FileWriteAll(h, "/blocks/vertices", H5T_NATIVE_DOUBLE, 2, dims, geom->vertices));
-  PetscCall(PetscMalloc1(PetscMax(nb + 1, 2 * ni) + 1, &i64));
-  for (PetscInt b = 0; b <= nb; b++) i64[b] = geom->offsets[b];
-  dims[0] = (hsize_t)nb + 1;
-  PetscCall(BwH5FileWriteAll(h, "/blocks/offsets", H5T_NATIVE_INT64, 1, dims, i64));
-  for (PetscInt e = 0; e < 2 * ni; e++) i64[e] = geom->pair[e];
-  dims[0] = (hsize_t)ni;
-  PetscCall(BwH5FileWriteAll(h, "/interfaces/blocks", H5T_NATIVE_INT64, 2, dims, i64));
-  PetscCall(PetscFree(i64));
-  dims[0] = (hsize_t)nb;
-  PetscCall(BwH5FileWriteAll(h, "/blocks/centroid", H5T_NATIVE_DOUBLE, 2, dims, geom->centroid));
-  dims[1] = 3;
-  PetscCall(BwH5FileWriteAll(h, "/blocks/load", H5T_NATIVE_DOUBLE, 2, dims, data->load));
-  PetscCall(PetscMalloc1(3 * nb + 1, &i8));
-  for (PetscInt e = 0; e < 3 * nb; e++) i8[e] = model->prescribed[e] ? 1 : 0;
-  PetscCall(BwH5FileWriteAll(h, "/blocks/prescribed", H5T_NATIVE_SCHAR, 2, dims, i8));
-  PetscCall(PetscFree(i8));
-  dims[0] = (hsize_t)ni;
-  dims[1] = 2;
-  PetscCall(BwH5FileWriteAll(h, "/interfaces/center", H5T_NATIVE_DOUBLE, 2, dims, geom->center));
-  PetscCall(BwH5FileWriteAll(h, "/interfaces/angle", H5T_NATIVE_DOUBLE, 1, dims, geom->angle));
-  PetscCall(BwH5FileWriteAll(h, "/interfaces/length", H5T_NATIVE_DOUBLE, 1, dims, geom->length));
-  PetscCall(BwH5FileWriteAll(h, "/interfaces/kn", H5T_NATIVE_DOUBLE, 1, dims, model->kn));
-  PetscCall(BwH5FileWriteAll(h, "/interfaces/kt", H5T_NATIVE_DOUBLE, 1, dims, model->kt));
-  for (PetscInt s = 0; s < geom->nsets; s++) {
-    char     name[PETSC_MAX_PATH_LEN];
-    PetscInt n = geom->setoffsets[s + 1] - geom->setoffsets[s];
-    PetscCall(PetscMalloc1(n + 1, &i64));
-    for (PetscInt e = 0; e < n; e++) i64[e] = geom->setblocks[geom->setoffsets[s] + e];
-    PetscCall(PetscSNPrintf(name, sizeof(name), "/sets/%s", geom->setname[s]));
-    dims[0] = (hsize_t)n;
-    PetscCall(BwH5FileWriteAll(h, name, H5T_NATIVE_INT64, 1, dims, i64));
+  if (geom->dim == 3) PetscCall(BwOutputWrite3D(out, h, data, &own, model));
+  else {
+    /* input schema, replicated */
+    dims[0] = (hsize_t)geom->offsets[nb];
+    dims[1] = 2;
+    PetscCall(BwH5FileWriteAll(h, "/blocks/vertices", H5T_NATIVE_DOUBLE, 2, dims, geom->vertices));
+    PetscCall(PetscMalloc1(PetscMax(nb + 1, 2 * ni) + 1, &i64));
+    for (PetscInt b = 0; b <= nb; b++) i64[b] = geom->offsets[b];
+    dims[0] = (hsize_t)nb + 1;
+    PetscCall(BwH5FileWriteAll(h, "/blocks/offsets", H5T_NATIVE_INT64, 1, dims, i64));
+    for (PetscInt e = 0; e < 2 * ni; e++) i64[e] = geom->pair[e];
+    dims[0] = (hsize_t)ni;
+    PetscCall(BwH5FileWriteAll(h, "/interfaces/blocks", H5T_NATIVE_INT64, 2, dims, i64));
     PetscCall(PetscFree(i64));
-  }
+    dims[0] = (hsize_t)nb;
+    PetscCall(BwH5FileWriteAll(h, "/blocks/centroid", H5T_NATIVE_DOUBLE, 2, dims, geom->centroid));
+    dims[1] = 3;
+    PetscCall(BwH5FileWriteAll(h, "/blocks/load", H5T_NATIVE_DOUBLE, 2, dims, data->load));
+    PetscCall(PetscMalloc1(3 * nb + 1, &i8));
+    for (PetscInt e = 0; e < 3 * nb; e++) i8[e] = model->prescribed[e] ? 1 : 0;
+    PetscCall(BwH5FileWriteAll(h, "/blocks/prescribed", H5T_NATIVE_SCHAR, 2, dims, i8));
+    PetscCall(PetscFree(i8));
+    dims[0] = (hsize_t)ni;
+    dims[1] = 2;
+    PetscCall(BwH5FileWriteAll(h, "/interfaces/center", H5T_NATIVE_DOUBLE, 2, dims, geom->center));
+    PetscCall(BwH5FileWriteAll(h, "/interfaces/angle", H5T_NATIVE_DOUBLE, 1, dims, geom->angle));
+    PetscCall(BwH5FileWriteAll(h, "/interfaces/length", H5T_NATIVE_DOUBLE, 1, dims, geom->length));
+    PetscCall(BwH5FileWriteAll(h, "/interfaces/kn", H5T_NATIVE_DOUBLE, 1, dims, model->kn));
+    PetscCall(BwH5FileWriteAll(h, "/interfaces/kt", H5T_NATIVE_DOUBLE, 1, dims, model->kt));
+    for (PetscInt s = 0; s < geom->nsets; s++) {
+      char     name[PETSC_MAX_PATH_LEN];
+      PetscInt n = geom->setoffsets[s + 1] - geom->setoffsets[s];
+      PetscCall(PetscMalloc1(n + 1, &i64));
+      for (PetscInt e = 0; e < n; e++) i64[e] = geom->setblocks[geom->setoffsets[s] + e];
+      PetscCall(PetscSNPrintf(name, sizeof(name), "/sets/%s", geom->setname[s]));
+      dims[0] = (hsize_t)n;
+      PetscCall(BwH5FileWriteAll(h, name, H5T_NATIVE_INT64, 1, dims, i64));
+      PetscCall(PetscFree(i64));
+    }
 
-  /* results, distributed at their input indices */
-  dims[0] = (hsize_t)nb;
-  dims[1] = 3;
-  PetscCall(BwH5FileWrite(h, "/blocks/displacement", H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->displacement));
-  PetscCall(BwH5FileWrite(h, "/blocks/reaction", H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->reaction));
-  dims[0] = (hsize_t)ni;
-  PetscCall(BwH5FileWrite(h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->relative));
-  PetscCall(BwH5FileWrite(h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->resultant));
-  if (out->stresses) {
-    dims[1] = (hsize_t)m;
-    dims[2] = 2;
-    PetscCall(BwH5FileWrite(h, "/interfaces/stress", H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, res->stress));
-  }
-  if (data->state) {
-    dims[1] = (hsize_t)m;
-    dims[2] = 2;
-    PetscCall(BwH5FileWrite(h, "/interfaces/state", H5T_NATIVE_SCHAR, 2, dims, own.nown_interfaces, own.own_interfaces, data->state));
-    PetscCall(BwH5FileWrite(h, "/interfaces/plastic_jump", H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, data->plastic));
+    /* results, distributed at their input indices */
+    dims[0] = (hsize_t)nb;
+    dims[1] = 3;
+    PetscCall(BwH5FileWrite(h, "/blocks/displacement", H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->displacement));
+    PetscCall(BwH5FileWrite(h, "/blocks/reaction", H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->reaction));
+    dims[0] = (hsize_t)ni;
+    PetscCall(BwH5FileWrite(h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->relative));
+    PetscCall(BwH5FileWrite(h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->resultant));
+    if (out->stresses) {
+      dims[1] = (hsize_t)m;
+      dims[2] = 2;
+      PetscCall(BwH5FileWrite(h, "/interfaces/stress", H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, res->stress));
+    }
+    if (data->state) {
+      dims[1] = (hsize_t)m;
+      dims[2] = 2;
+      PetscCall(BwH5FileWrite(h, "/interfaces/state", H5T_NATIVE_SCHAR, 2, dims, own.nown_interfaces, own.own_interfaces, data->state));
+      PetscCall(BwH5FileWrite(h, "/interfaces/plastic_jump", H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, data->plastic));
+    }
   }
   if (hist) {
     int64_t *its;
@@ -218,8 +338,10 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutput
   PetscCall(BwH5FileAttrString(h, "/", "version", BW_VERSION));
   PetscCall(BwH5FileAttrString(h, "/", "scene", data->scene));
   PetscCall(BwH5FileAttrString(h, "/", "units", "SI"));
+  PetscCall(BwH5FileAttrInt(h, "/", "dimension", geom->dim));
   PetscCall(BwH5FileAttrInt(h, "/", "m", m));
-  PetscCall(BwH5FileAttrDouble(h, "/", "depth", geom->depth));
+  if (geom->dim == 3) PetscCall(BwH5FileAttrInt(h, "/", "m_b", model->mb));
+  else PetscCall(BwH5FileAttrDouble(h, "/", "depth", geom->depth));
   if (data->casename) PetscCall(BwH5FileAttrString(h, "/", "case", data->casename));
   for (PetscInt i = 0; i < data->solver->n; i++) {
     const BwReportItem *it = &data->solver->item[i];
@@ -302,8 +424,17 @@ static PetscLogDouble BwOutputBytes(BwOutput out, BwMixed mx, const char scene_t
   nb    = g->nblocks;
   ni    = g->ninterfaces;
   nv    = g->offsets[g->nblocks];
-  bytes = nv * 16 + (nb + 1) * 8 + nb * (16 + 24 + 3 + 24 + 24) + ni * (16 + 16 + 8 + 8 + 8 + 8 + 24 + 24);
-  if (out->stresses) bytes += ni * model->m * 16;
+  if (g->dim == 3) {
+    /* vertices, offsets, centroid, load, prescribed, displacement, reaction;
+     * interfaces: blocks, center, frame, area, kn, kt, polygons, relative
+     * displacement, resultant; portions: centre, area, stress, offsets */
+    PetscLogDouble np = ni * model->m * model->mb, nw = g->poly_offsets[g->ninterfaces];
+    bytes = nv * 24 + (nb + 1) * 8 + nb * (24 + 48 + 6 + 48 + 48) + ni * (16 + 24 + 72 + 8 + 8 + 8 + 8 + 48 + 48) + nw * 24;
+    if (out->stresses) bytes += np * (16 + 8 + 24) + ni * 8;
+  } else {
+    bytes = nv * 16 + (nb + 1) * 8 + nb * (16 + 24 + 3 + 24 + 24) + ni * (16 + 16 + 8 + 8 + 8 + 8 + 24 + 24);
+    if (out->stresses) bytes += ni * model->m * 16;
+  }
   bytes += g->setoffsets[g->nsets] * 8.0 + g->nsets * 1024.0;
   if (out->xdmf) bytes += (nv + 2 * nb) * 8 + ni * (32 + 16) + nv * 24;
   if (model->nonlinear) bytes += ni * model->m * 17.0;

@@ -27,7 +27,8 @@ PetscErrorCode BwMixedCompatibility(BwMixed mx, PetscInt k, PetscReal rb[])
   int            status;
 
   PetscFunctionBeginUser;
-  bw_interface_compatibility(&g->centroid[d * i], &g->centroid[d * j], &g->center[d * k], g->angle[k], rb, &status);
+  if (d == 3) bw_kernel_compatibility(3, &g->centroid[3 * i], &g->centroid[3 * j], &g->center[3 * k], &g->frame[9 * k], rb, &status);
+  else bw_interface_compatibility(&g->centroid[d * i], &g->centroid[d * j], &g->center[d * k], g->angle[k], rb, &status);
   PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -88,6 +89,43 @@ static PetscErrorCode BwMixedScales(BwMixed mx)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* 3D: the interface polygons in their own coordinates (xi, eta) = ((x -
+ * G) . t, (x - G) . b), counter-clockwise in (xi, eta) (a polygon
+ * counter-clockwise about n is clockwise there, t x b = -n: its order is
+ * reversed by the sign of its area), cut into portions. */
+static PetscErrorCode BwMixedCreatePortions3D(BwMixed mx)
+{
+  BwGeometry      g  = mx->geom;
+  const PetscInt  ni = g->ninterfaces;
+  PetscReal      *local;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(2 * (size_t)g->poly_offsets[ni] + 1, &local));
+  for (PetscInt k = 0; k < ni; k++) {
+    const PetscInt   o = g->poly_offsets[k], nv = g->poly_offsets[k + 1] - o;
+    const PetscReal *G = &g->center[3 * k], *t = &g->frame[9 * k], *b = &g->frame[9 * k + 6];
+    PetscReal       *xy = local + 2 * o, a = 0;
+
+    for (PetscInt v = 0; v < nv; v++) {
+      const PetscReal *x = &g->poly[3 * (o + v)];
+      PetscReal        r[3] = {x[0] - G[0], x[1] - G[1], x[2] - G[2]};
+      xy[2 * v]             = r[0] * t[0] + r[1] * t[1] + r[2] * t[2];
+      xy[2 * v + 1]         = r[0] * b[0] + r[1] * b[1] + r[2] * b[2];
+    }
+    for (PetscInt v = 0; v < nv; v++) a += xy[2 * v] * xy[2 * ((v + 1) % nv) + 1] - xy[2 * ((v + 1) % nv)] * xy[2 * v + 1];
+    if (a < 0)
+      for (PetscInt v = 0; v < nv / 2; v++)
+        for (int c = 0; c < 2; c++) {
+          PetscReal tmp                 = xy[2 * v + c];
+          xy[2 * v + c]                 = xy[2 * (nv - 1 - v) + c];
+          xy[2 * (nv - 1 - v) + c] = tmp;
+        }
+  }
+  PetscCall(BwPortionsCreate3D(ni, g->poly_offsets, local, mx->m, mx->model->mb, &mx->portions));
+  PetscCall(PetscFree(local));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *mixed)
 {
   BwMixed     mx;
@@ -128,7 +166,8 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     PetscCall(PetscFree(fill));
   }
   *mixed = mx; /* from here on, BwMixedDestroy cleans up after an error */
-  PetscCall(BwPortionsCreate2D(ni, geom->pair, geom->length, geom->depth, mx->m, &mx->portions));
+  if (geom->dim == 3) PetscCall(BwMixedCreatePortions3D(mx));
+  else PetscCall(BwPortionsCreate2D(ni, geom->pair, geom->length, geom->depth, mx->m, &mx->portions));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
   PetscCall(BwMixedCheckRestraint(mx));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
@@ -286,6 +325,10 @@ PetscErrorCode BwMixedGetOwnership(BwMixed mx, BwMixedOwnership *own)
   own->nblocks         = mx->geom->nblocks;
   own->ninterfaces     = mx->geom->ninterfaces;
   own->m               = mx->m;
+  own->dim             = mx->dim;
+  own->nd              = mx->nd;
+  own->ns              = mx->ns;
+  own->portions        = &mx->portions;
   own->nown_blocks     = mx->nown_blocks;
   own->nown_interfaces = mx->nown_interfaces;
   own->own_blocks      = mx->own_blocks;

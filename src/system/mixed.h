@@ -26,6 +26,7 @@
 #pragma once
 #include <petscksp.h>
 #include "model/model.h"
+#include "system/portions.h"
 
 typedef enum { BW_STORAGE_SHELL = 0, BW_STORAGE_NEST = 1, BW_STORAGE_AIJ = 2 } BwStorage;
 extern const char *const BwStorages[];
@@ -93,6 +94,8 @@ PetscErrorCode BwMixedDofRow(BwMixed mixed, PetscInt block, PetscInt dof, PetscI
 /* Sizes and ownership, for output and analyses. */
 typedef struct {
   PetscInt        nblocks, ninterfaces, m;
+  PetscInt        dim, nd, ns;         /* 2 | 3; dofs per block; stresses per portion */
+  const BwPortions *portions;          /* the portions of every interface */
   PetscInt        nown_blocks, nown_interfaces;
   const PetscInt *own_blocks, *own_interfaces; /* ascending input indices */
   PetscInt        nq_global, nr_global;
@@ -111,11 +114,11 @@ PetscBool BwMechanismVerdict(PetscReal rho, PetscReal snorm);
 
 /* Results of the owned blocks and interfaces, physical units. */
 typedef struct {
-  PetscReal *displacement; /* 3 per owned block */
-  PetscReal *reaction;     /* 3 per owned block (0 at free dofs) */
-  PetscReal *relative;     /* 3 per owned interface: dt, dn, phi */
-  PetscReal *resultant;    /* 3 per owned interface: T, N, M */
-  PetscReal *stress;       /* 2m per owned interface: (shear, normal) per portion, if asked */
+  PetscReal *displacement; /* nd per owned block */
+  PetscReal *reaction;     /* nd per owned block (0 at free dofs) */
+  PetscReal *relative;     /* nd per owned interface: dt, dn, phi | dt, dn, db, phit, phin, phib */
+  PetscReal *resultant;    /* nd per owned interface: T, N, M | T, N, Tb, Mt, Mn, Mb */
+  PetscReal *stress;       /* ns per portion of the owned interfaces, in their order, if asked */
 } BwResults;
 /* Self-check of a solution x of K x = b: relative norms in the scaled
  * system; the global balance needs the recovered reactions and the loads

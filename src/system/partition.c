@@ -42,8 +42,10 @@ PetscErrorCode BwPartitionBlocks(BwModel model, PetscMPIInt **owner)
       adjncy[deg[j]++] = (idx_t)i;
     }
     for (PetscInt b = 0; b < nb; b++) {
-      PetscInt free = !model->prescribed[3 * b] + !model->prescribed[3 * b + 1] + !model->prescribed[3 * b + 2];
-      vwgt[b]       = (idx_t)(free + model->m * (xadj[b + 1] - xadj[b]));
+      PetscInt free = 0;
+      for (PetscInt c = 0; c < model->nd; c++) free += !model->prescribed[model->nd * b + c];
+      /* the work of a block: its dofs and the stresses of its interfaces */
+      vwgt[b] = (idx_t)(free + model->m * model->mb * (xadj[b + 1] - xadj[b]));
     }
     /* METIS wants a simple graph: two interfaces between the same pair of
      * blocks give a repeated edge, which it tolerates in k-way; no self loops

@@ -1,6 +1,7 @@
 /* The portions' table (see portions.h). */
 #include "system/portions.h"
 #include <string.h>
+#include <math.h>
 #include "util/compat.h"
 #include "blockwall/kernels.h"
 
@@ -186,10 +187,24 @@ static PetscInt BwPolygonPortions(PetscInt n, const PetscReal poly[], PetscInt m
   return np;
 }
 
+/* Polygon k's coordinates on the grid of step q (see below), as integers. */
+static void BwPolygonQuantize(PetscInt nv, const PetscReal p[], PetscReal q, int64_t out[])
+{
+  for (PetscInt a = 0; a < 2 * nv; a++) out[a] = (int64_t)llround(p[a] / q);
+}
+
+static uint64_t BwPolygonHash(PetscInt nv, const int64_t z[])
+{
+  uint64_t h = 1469598103934665603ULL ^ (uint64_t)nv;
+  for (PetscInt a = 0; a < 2 * nv; a++) h = (h ^ (uint64_t)z[a]) * 1099511628211ULL;
+  return h ^ (h >> 29);
+}
+
 PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const PetscReal poly[], PetscInt m, PetscInt mb, BwPortions *P)
 {
-  PetscInt   maxv = 0, cap, used = 0;
-  PetscReal *work;
+  PetscInt   maxv = 0, cap, used = 0, tcap = 16, *table, *rep;
+  PetscReal *work, ext = 0, q;
+  int64_t   *za, *zb;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(P, sizeof(*P)));
@@ -197,20 +212,56 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
   P->ninterfaces = n;
   P->maxnp       = 0;
   for (PetscInt k = 0; k < n; k++) maxv = PetscMax(maxv, offsets[k + 1] - offsets[k]);
+  for (PetscInt a = 0; a < 2 * offsets[n]; a++) ext = PetscMax(ext, PetscAbsReal(poly[a]));
+  /* Interfaces of one shape share a layout. Their polygons, computed from
+   * world coordinates, agree only to round-off: they are compared on a grid
+   * of step q = 2^-40 of the largest coordinate (a power of two: the
+   * rounding is the same on every rank and CPU), and a class's portions are
+   * those of its first polygon, within 1e-12 of the others'. Two polygons
+   * that straddle a grid line get layouts of their own: only memory. */
+  q = ext > 0 ? PetscPowReal(2.0, PetscCeilReal(PetscLog2Real(ext)) - 40) : 1;
+  while (tcap < 2 * n) tcap *= 2;
+  PetscCall(PetscMalloc1(tcap, &table));
+  for (PetscInt a = 0; a < tcap; a++) table[a] = -1;
+  PetscCall(PetscMalloc3(2 * maxv + 1, &za, 2 * maxv + 1, &zb, n + 1, &rep));
   PetscCall(PetscMalloc1(4 * (maxv + 4) + 1, &work));
   PetscCall(PetscMalloc1(n + 1, &P->layout));
   PetscCall(PetscMalloc1(n + 1, &P->offsets));
-  cap = PetscMax(1, n) * m * mb;
+  for (PetscInt k = 0; k < n; k++) {
+    PetscInt nv = offsets[k + 1] - offsets[k];
+    PetscCheck(nv >= 3, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has a polygon of %" PetscInt_FMT " vertices", k, nv);
+  }
+  /* classes first (then the arrays have their size) */
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscInt nv = offsets[k + 1] - offsets[k];
+    uint64_t       h;
+    BwPolygonQuantize(nv, poly + 2 * offsets[k], q, za);
+    h      = BwPolygonHash(nv, za);
+    rep[k] = -1;
+    for (PetscInt s = (PetscInt)(h & (uint64_t)(tcap - 1));; s = (s + 1) & (tcap - 1)) {
+      const PetscInt r = table[s];
+      if (r < 0) {
+        table[s] = k;
+        break;
+      }
+      if (offsets[r + 1] - offsets[r] != nv) continue;
+      BwPolygonQuantize(nv, poly + 2 * offsets[r], q, zb);
+      if (!memcmp(za, zb, sizeof(int64_t) * 2 * nv)) {
+        rep[k] = r;
+        break;
+      }
+    }
+    if (rep[k] < 0) P->nlayouts++;
+  }
+  cap = PetscMax(1, P->nlayouts) * m * mb;
   PetscCall(PetscMalloc5(cap, &P->area, cap, &P->xi, cap, &P->eta, cap, &P->sqrt_area, cap, &P->inv_sqrt_area));
-  /* a layout per interface, except where the polygon repeats the previous
-   * interface's bit for bit (generators write runs of equal joints) */
+  P->nlayouts = 0;
   for (PetscInt k = 0; k < n; k++) {
     PetscInt nv = offsets[k + 1] - offsets[k], np;
-    if (k > 0 && nv == offsets[k] - offsets[k - 1] && !memcmp(poly + 2 * offsets[k], poly + 2 * offsets[k - 1], sizeof(PetscReal) * 2 * nv)) {
-      P->layout[k] = P->layout[k - 1];
+    if (rep[k] >= 0) {
+      P->layout[k] = P->layout[rep[k]];
       continue;
     }
-    PetscCheck(nv >= 3, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has a polygon of %" PetscInt_FMT " vertices", k, nv);
     np = BwPolygonPortions(nv, poly + 2 * offsets[k], m, mb, work, P->area + used, P->xi + used, P->eta + used);
     PetscCheck(np > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has zero area", k);
     P->layout[k]             = P->nlayouts;
@@ -225,6 +276,8 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
     P->inv_sqrt_area[p] = 1 / P->sqrt_area[p];
   }
   PetscCall(PetscFree(work));
+  PetscCall(PetscFree(table));
+  PetscCall(PetscFree3(za, zb, rep));
   PetscCall(BwPortionsMarkUniform(P));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

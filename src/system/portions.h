@@ -28,7 +28,8 @@ PetscErrorCode BwPortionsCreate2D(PetscInt ninterfaces, const PetscInt pair[], c
  * and b, counter-clockwise; it is cut by the m x mb grid of equal cells of
  * its bounding box, and every cell's intersection of area above 1e-9 A is
  * a portion (model.md, "Three dimensions"), numbered with the t index
- * fastest. Interfaces of identical polygons share a layout. */
+ * fastest. Interfaces whose polygons agree to 2^-40 of the largest
+ * coordinate share a layout (the portions of the first of them). */
 PetscErrorCode BwPortionsCreate3D(PetscInt ninterfaces, const PetscInt offsets[], const PetscReal poly[], PetscInt m, PetscInt mb, BwPortions *P);
 PetscErrorCode BwPortionsDestroy(BwPortions *P);
 

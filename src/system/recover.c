@@ -301,7 +301,7 @@ PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, Vec b, const PetscReal load[], co
         hi[c] = PetscMax(hi[c], geom->centroid[d * b + c]);
       }
     for (PetscInt c = 0; c < d; c++) L += PetscSqr(hi[c] - lo[c]);
-    L = PetscMax(PetscSqrtReal(L), PetscSqrtReal(geom->area[0]));
+    L = PetscMax(PetscSqrtReal(L), BwGeometryBlockSize(geom, 0));
     for (PetscInt e = 0; e < mx->nown_blocks; e++) {
       PetscInt b = mx->own_blocks[e];
       /* the wrench of the loads and of the reactions about x0: forces, then

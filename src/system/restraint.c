@@ -72,13 +72,212 @@ typedef struct {
   PetscReal y1[2], x2[2];                         /* range of u1-prescribed y, u2-prescribed x */
 } BwGroup;
 
+/* Eigen-decomposition of a symmetric n x n matrix a (row-major, destroyed)
+ * by cyclic Jacobi rotations: eigenvalues lam[n], eigenvectors as the
+ * columns of v. For the 6 x 6 normal matrices of the 3D restraint check. */
+static void BwJacobiEigen(PetscInt n, PetscReal a[], PetscReal lam[], PetscReal v[])
+{
+  for (PetscInt i = 0; i < n; i++)
+    for (PetscInt j = 0; j < n; j++) v[i * n + j] = i == j;
+  for (int sweep = 0; sweep < 60; sweep++) {
+    PetscReal off = 0, on = 0;
+    for (PetscInt i = 0; i < n; i++)
+      for (PetscInt j = 0; j < n; j++) {
+        if (i == j) on += PetscSqr(a[i * n + j]);
+        else off += PetscSqr(a[i * n + j]);
+      }
+    if (off <= 1e-32 * on || off == 0) break;
+    for (PetscInt p = 0; p < n; p++)
+      for (PetscInt q = p + 1; q < n; q++) {
+        PetscReal apq = a[p * n + q], theta, t, c, sn;
+        if (apq == 0) continue;
+        theta = (a[q * n + q] - a[p * n + p]) / (2 * apq);
+        t     = (theta >= 0 ? 1 : -1) / (PetscAbsReal(theta) + PetscSqrtReal(theta * theta + 1));
+        c     = 1 / PetscSqrtReal(t * t + 1);
+        sn    = t * c;
+        for (PetscInt k = 0; k < n; k++) { /* columns p, q */
+          PetscReal akp = a[k * n + p], akq = a[k * n + q];
+          a[k * n + p]  = c * akp - sn * akq;
+          a[k * n + q]  = sn * akp + c * akq;
+        }
+        for (PetscInt k = 0; k < n; k++) { /* rows p, q */
+          PetscReal apk = a[p * n + k], aqk = a[q * n + k];
+          a[p * n + k]  = c * apk - sn * aqk;
+          a[q * n + k]  = sn * apk + c * aqk;
+        }
+        for (PetscInt k = 0; k < n; k++) {
+          PetscReal vkp = v[k * n + p], vkq = v[k * n + q];
+          v[k * n + p]  = c * vkp - sn * vkq;
+          v[k * n + q]  = sn * vkp + c * vkq;
+        }
+      }
+  }
+  for (PetscInt i = 0; i < n; i++) lam[i] = a[i * n + i];
+}
+
+/* A rigid motion (a, w) of 3D blocks in words: a translation along a
+ * direction, or a rotation about an axis through a point (about X1, X2, X3
+ * where the axis is one of them); x0 is the point the motion is taken about. */
+static PetscErrorCode BwDescribeRigid3D(const PetscReal a[3], const PetscReal w[3], const PetscReal x0[3], PetscReal size, char buf[], size_t len)
+{
+  PetscReal wn = PetscSqrtReal(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]), an = PetscSqrtReal(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  static const char *const axes[3] = {"X1", "X2", "X3"};
+
+  PetscFunctionBeginUser;
+  if (wn * size <= 1e-6 * an) {
+    PetscReal d[3];
+    for (int c = 0; c < 3; c++) d[c] = PetscAbsReal(a[c] / an) < 1e-8 ? 0 : a[c] / an;
+    for (int c = 0; c < 3; c++)
+      if (PetscAbsReal(PetscAbsReal(d[c]) - 1) < 1e-8) {
+        PetscCall(PetscSNPrintf(buf, len, "translation along %s", axes[c]));
+        PetscFunctionReturn(PETSC_SUCCESS);
+      }
+    PetscCall(PetscSNPrintf(buf, len, "translation along (%.3g, %.3g, %.3g)", (double)d[0], (double)d[1], (double)d[2]));
+  } else {
+    /* the axis: direction w, through the point of least motion x0 + w x a / |w|^2 */
+    PetscReal e[3], P[3], wa[3] = {w[1] * a[2] - w[2] * a[1], w[2] * a[0] - w[0] * a[2], w[0] * a[1] - w[1] * a[0]};
+    int       axis = -1;
+    for (int c = 0; c < 3; c++) {
+      e[c] = PetscAbsReal(w[c] / wn) < 1e-8 ? 0 : w[c] / wn;
+      P[c] = x0[c] + wa[c] / (wn * wn);
+      if (PetscAbsReal(P[c]) < 1e-8 * size) P[c] = 0;
+      if (PetscAbsReal(PetscAbsReal(e[c]) - 1) < 1e-8) axis = c;
+    }
+    if (axis >= 0) {
+      /* the line: the two coordinates that fix it */
+      const int c1 = (axis + 1) % 3, c2 = (axis + 2) % 3, lo = PetscMin(c1, c2), hi = PetscMax(c1, c2);
+      PetscCall(PetscSNPrintf(buf, len, "rotation about %s (the line x%d = %.6g, x%d = %.6g)", axes[axis], lo + 1, (double)P[lo], hi + 1, (double)P[hi]));
+    }
+    else PetscCall(PetscSNPrintf(buf, len, "rotation about the axis (%.3g, %.3g, %.3g) through (%.6g, %.6g, %.6g)", (double)e[0], (double)e[1], (double)e[2], (double)P[0], (double)P[1], (double)P[2]));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* 3D: the rigid motions (a, w) about a group's mean centroid x0 that its
+ * prescribed dofs leave free, exactly: the null space of the constraint
+ * rows (u_b = a + w x (c_b - x0) on a prescribed translation, w_c on a
+ * prescribed rotation; w scaled by the group's size L so that the columns
+ * weigh alike), from the 6 x 6 normal matrix. With m, m_b >= 2 every
+ * interface has the full stiffness of model.md and a relative motion of
+ * joined blocks strains it, so the check is exact; m = 1 or m_b = 1
+ * leave hinges, which BwMixedCheckMechanism finds. */
+static PetscErrorCode BwRestraintGroups3D(BwMixed mx, PetscInt ncomp, const PetscInt comp[], char motion[], size_t mlen, PetscErrorCode *ierr)
+{
+  BwGeometry geom = mx->geom;
+  BwModel    model = mx->model;
+  PetscInt   nb = geom->nblocks;
+  PetscReal *x0, *lo, *hi, *M;
+  PetscInt  *count, *nfix;
+  char       list[512];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc6(3 * ncomp, &x0, 3 * ncomp, &lo, 3 * ncomp, &hi, 36 * ncomp, &M, ncomp, &count, ncomp, &nfix));
+  for (PetscInt c = 0; c < 3 * ncomp; c++) lo[c] = PETSC_MAX_REAL, hi[c] = PETSC_MIN_REAL;
+  for (PetscInt b = 0; b < nb; b++) {
+    const PetscReal *cb = &geom->centroid[3 * b];
+    PetscInt         g  = comp[b];
+    count[g]++;
+    for (int c = 0; c < 3; c++) {
+      x0[3 * g + c] += cb[c];
+      lo[3 * g + c] = PetscMin(lo[3 * g + c], cb[c]);
+      hi[3 * g + c] = PetscMax(hi[3 * g + c], cb[c]);
+    }
+  }
+  for (PetscInt g = 0; g < ncomp; g++)
+    for (int c = 0; c < 3; c++) x0[3 * g + c] /= count[g];
+  for (PetscInt b = 0; b < nb; b++) {
+    PetscInt  g = comp[b];
+    PetscReal L = 0, r[3];
+    for (int c = 0; c < 3; c++) L = PetscMax(L, hi[3 * g + c] - lo[3 * g + c]);
+    L = PetscMax(L, BwGeometryBlockSize(geom, b));
+    for (int c = 0; c < 3; c++) r[c] = (geom->centroid[3 * b + c] - x0[3 * g + c]) / L;
+    for (int c = 0; c < 6; c++) {
+      PetscReal row[6] = {0, 0, 0, 0, 0, 0};
+      if (!model->prescribed[6 * b + c]) continue;
+      nfix[g]++;
+      if (c < 3) {
+        /* (w x r)_c = sum_j eps_cjk w_j r_k; w' = w L */
+        row[c]                 = 1;
+        row[3 + (c + 1) % 3] = r[(c + 2) % 3];
+        row[3 + (c + 2) % 3] = -r[(c + 1) % 3];
+      } else row[c] = 1;
+      for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 6; j++) M[36 * g + 6 * i + j] += row[i] * row[j];
+    }
+  }
+  *ierr = PETSC_SUCCESS;
+  for (PetscInt g = 0; g < ncomp && !*ierr; g++) {
+    PetscReal lam[6], V[36], lmax = 0, L = 0;
+    PetscInt  nfree = 0, n, first = -1;
+    char      what[1024] = "";
+
+    for (PetscInt b = 0; b < nb && first < 0; b++)
+      if (comp[b] == g) first = b;
+    for (int c = 0; c < 3; c++) L = PetscMax(L, hi[3 * g + c] - lo[3 * g + c]);
+    L = PetscMax(L, BwGeometryBlockSize(geom, first));
+    BwJacobiEigen(6, &M[36 * g], lam, V);
+    for (int i = 0; i < 6; i++) lmax = PetscMax(lmax, lam[i]);
+    {
+      /* the null space, in a basis that reads: rows of (w', a) brought to
+       * reduced row echelon form, rotations first, so that a free rotation
+       * about an axis is that axis (X1, X2, X3 where it is one) and a free
+       * translation its direction, whatever basis the eigensolver gave */
+      PetscReal N[6][6];
+      PetscInt  k = 0, row = 0;
+      for (int i = 0; i < 6; i++) {
+        if (lam[i] > 1e-10 * PetscMax(lmax, 1)) continue;
+        for (int c = 0; c < 3; c++) N[k][c] = V[6 * (3 + c) + i], N[k][3 + c] = V[6 * c + i];
+        k++;
+      }
+      for (int col = 0; col < 6 && row < k; col++) {
+        PetscInt  piv = row;
+        PetscReal best = 0;
+        for (PetscInt r = row; r < k; r++)
+          if (PetscAbsReal(N[r][col]) > best) best = PetscAbsReal(N[r][col]), piv = r;
+        if (best < 1e-8) continue;
+        for (int c = 0; c < 6; c++) {
+          PetscReal t = N[row][c];
+          N[row][c]   = N[piv][c];
+          N[piv][c]   = t;
+        }
+        for (int c = 5; c >= 0; c--) N[row][c] /= N[row][col];
+        for (PetscInt r = 0; r < k; r++) {
+          PetscReal f = N[r][col];
+          if (r == row || f == 0) continue;
+          for (int c = 0; c < 6; c++) N[r][c] -= f * N[row][c];
+        }
+        row++;
+      }
+      for (PetscInt r = 0; r < k; r++) {
+        PetscReal a[3], w[3];
+        char      one[256];
+        for (int c = 0; c < 3; c++) {
+          w[c] = PetscAbsReal(N[r][c]) < 1e-12 ? 0 : N[r][c] / L;
+          a[c] = PetscAbsReal(N[r][3 + c]) < 1e-12 ? 0 : N[r][3 + c];
+        }
+        PetscCall(BwDescribeRigid3D(a, w, &x0[3 * g], L, one, sizeof(one)));
+        if (nfree) PetscCall(PetscStrlcat(what, ", ", sizeof(what)));
+        PetscCall(PetscStrlcat(what, one, sizeof(what)));
+        nfree++;
+      }
+    }
+    if (!nfree) continue;
+    PetscCall(BwBlockList(nb, comp, g, first, list, sizeof(list), &n));
+    *ierr = PETSC_ERR_USER_INPUT;
+    if (!nfix[g]) PetscCall(PetscSNPrintf(motion, mlen, "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s no path of interfaces to a support; free motion: rigid translation and rotation", n > 1 ? "s" : "", list, n, n > 1 ? "s" : "", n > 1 ? "have" : "has"));
+    else PetscCall(PetscSNPrintf(motion, mlen, "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s held only by %" PetscInt_FMT " prescribed dofs that leave %" PetscInt_FMT " rigid motion%s free; free motion: %s", n > 1 ? "s" : "", list, n, n > 1 ? "s" : "", n > 1 ? "are" : "is", nfix[g], nfree, nfree > 1 ? "s" : "", what));
+  }
+  PetscCall(PetscFree6(x0, lo, hi, M, count, nfix));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwMixedCheckRestraint(BwMixed mx)
 {
   BwGeometry geom = mx->geom;
   BwModel    model = mx->model;
   PetscInt   nb = geom->nblocks, *comp, *stack, ncomp = 0;
   BwGroup   *grp;
-  char       list[512], motion[512];
+  char       list[512], motion[1536];
   PetscErrorCode ierr = PETSC_SUCCESS;
 
   PetscFunctionBeginUser;
@@ -100,6 +299,12 @@ PetscErrorCode BwMixedCheckRestraint(BwMixed mx)
       }
     }
     ncomp++;
+  }
+  if (geom->dim == 3) {
+    PetscCall(BwRestraintGroups3D(mx, ncomp, comp, motion, sizeof(motion), &ierr));
+    PetscCall(PetscFree2(comp, stack));
+    PetscCheck(!ierr, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s", motion);
+    PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(PetscCalloc1(ncomp, &grp));
   for (PetscInt c = 0; c < ncomp; c++) {
@@ -219,6 +424,15 @@ PetscBool BwMechanismVerdict(PetscReal rho, PetscReal snorm)
   return (PetscBool)(PetscAbsReal(rho) <= 1e-14 * snorm);
 }
 
+/* The size of block b's motion q (nd dofs): translations and rotations
+ * times the block's size. */
+static PetscReal BwMotionSize(BwMixed mx, PetscInt b, const PetscReal q[])
+{
+  PetscReal r = BwGeometryBlockSize(mx->geom, b), s = 0;
+  for (PetscInt c = 0; c < mx->nd; c++) s += PetscSqr(q[c] * (c >= mx->dim ? r : 1));
+  return PetscSqrtReal(s);
+}
+
 /* Block b's displacement (u1, u2, w) in words. */
 static PetscErrorCode BwDescribeMotion(BwGeometry geom, PetscInt b, const PetscReal q[3], char buf[], size_t len)
 {
@@ -257,7 +471,7 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
   PetscReal          snorm, rho, *q, mmax = 0;
   PetscScalar        dot;
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-  PetscInt           lo, hi, nb = geom->nblocks, nmove = 0, *moving;
+  PetscInt           lo, hi, nb = geom->nblocks, nmove = 0, *moving, nd = mx->nd;
   const PetscScalar *a;
   PetscScalar       *xa;
   char               list[512] = "", motion[1024] = "";
@@ -314,32 +528,36 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
   PetscCall(VecGetArray(x, &xa));
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt b = mx->own_blocks[e];
-    for (PetscInt c = 0; c < 3 && mx->qrow[b] >= 0; c++) xa[mx->qrow[b] + c - lo] *= mx->model->prescribed[3 * b + c] ? 0 : mx->qscale[3 * b + c];
+    for (PetscInt c = 0; c < nd && mx->qrow[b] >= 0; c++) xa[mx->qrow[b] + c - lo] *= mx->model->prescribed[nd * b + c] ? 0 : mx->qscale[nd * b + c];
   }
   PetscCall(VecRestoreArray(x, &xa));
   PetscCall(VecScatterCreateToAll(x, &sct, &all));
   PetscCall(VecScatterBegin(sct, x, all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(sct, x, all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterDestroy(&sct));
-  PetscCall(PetscMalloc2(3 * nb, &q, nb, &moving));
+  PetscCall(PetscMalloc2(nd * nb, &q, nb, &moving));
   PetscCall(VecGetArrayRead(all, &a));
   for (PetscInt b = 0; b < nb; b++) {
-    for (PetscInt c = 0; c < 3; c++) q[3 * b + c] = mx->qrow[b] >= 0 ? PetscRealPart(a[mx->qrow[b] + c]) : 0;
-    mmax = PetscMax(mmax, PetscSqrtReal(PetscSqr(q[3 * b]) + PetscSqr(q[3 * b + 1]) + PetscSqr(q[3 * b + 2]) * geom->area[b]));
+    for (PetscInt c = 0; c < nd; c++) q[nd * b + c] = mx->qrow[b] >= 0 ? PetscRealPart(a[mx->qrow[b] + c]) : 0;
+    mmax = PetscMax(mmax, BwMotionSize(mx, b, &q[nd * b]));
   }
   PetscCall(VecRestoreArrayRead(all, &a));
   for (PetscInt b = 0; b < nb; b++)
-    if (PetscSqrtReal(PetscSqr(q[3 * b]) + PetscSqr(q[3 * b + 1]) + PetscSqr(q[3 * b + 2]) * geom->area[b]) > 1e-3 * mmax) moving[nmove++] = b;
+    if (BwMotionSize(mx, b, &q[nd * b]) > 1e-3 * mmax) moving[nmove++] = b;
   for (PetscInt e = 0; e < PetscMin(nmove, 13); e++) {
     char item[32];
     PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, e ? ", " : "", moving[e]));
     PetscCall(PetscStrlcat(list, e < 12 ? item : ", ...", sizeof(list)));
   }
   for (PetscInt e = 0; e < PetscMin(nmove, 5); e++) {
-    char item[160];
+    char item[260];
     if (e == 4) PetscCall(PetscStrlcat(motion, ", ...", sizeof(motion)));
     else {
-      PetscCall(BwDescribeMotion(geom, moving[e], &q[3 * moving[e]], item, sizeof(item)));
+      if (nd == 6) {
+        char what[200];
+        PetscCall(BwDescribeRigid3D(&q[6 * moving[e]], &q[6 * moving[e] + 3], &geom->centroid[3 * moving[e]], BwGeometryBlockSize(geom, moving[e]), what, sizeof(what)));
+        PetscCall(PetscSNPrintf(item, sizeof(item), "block %" PetscInt_FMT ": %s", moving[e], what));
+      } else PetscCall(BwDescribeMotion(geom, moving[e], &q[3 * moving[e]], item, sizeof(item)));
       if (e) PetscCall(PetscStrlcat(motion, ", ", sizeof(motion)));
       PetscCall(PetscStrlcat(motion, item, sizeof(motion)));
     }

@@ -42,7 +42,7 @@ static PetscErrorCode BwMixedStiffnessInterfaces(BwMixed mx)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* K_G (3x3, row-major) of interface k from its law's elastic tangent: the
+/* K_G (nd x nd, row-major) of interface k from its law's elastic tangent: the
  * law evaluated at zero jump and a virgin state, the same for every
  * portion. */
 static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal kg[])
@@ -55,9 +55,16 @@ static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal 
   int         status;
 
   PetscFunctionBeginUser;
-  PetscCall(BwModelInterfaceLaw(mx->model, k, &law, par));
   PetscCall(PetscSNPrintf(what, sizeof(what), "interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ")", k, g->pair[2 * k], g->pair[2 * k + 1]));
-  PetscCall(BwJointLawEvaluate(law, par, 1, state, jump, stress, tangent, state_out, &mode, what));
+  if (mx->dim == 3) {
+    /* the laws' kernels have two stress components; 3D joints are elastic
+     * (their strength is refused before the assembly): C = diag(kt, kn, kt) */
+    PetscCheck(!mx->model->nonlinear, PETSC_COMM_SELF, PETSC_ERR_SUP, "3D joints with strength are not available (%s)", what);
+    BwMixedElasticTangent(mx, k, tangent);
+  } else {
+    PetscCall(BwModelInterfaceLaw(mx->model, k, &law, par));
+    PetscCall(BwJointLawEvaluate(law, par, 1, state, jump, stress, tangent, state_out, &mode, what));
+  }
   {
     const PetscReal *area, *xi, *eta;
     PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);

@@ -37,6 +37,21 @@ CASES = {
     "petsc_ksp_type": ("ok.yaml", ["-ksp_type", "nonsense"], ["option -ksp_type", "nonsense"]),
     "petsc_schur_pc_type": ("ok.yaml", ["-schur_pc_type", "nonsense"], ["option -schur_pc_type", "nonsense"]),
     "petsc_number": ("ok.yaml", ["-ksp_rtol", "abc"], ["option -ksp_rtol", "abc"]),
+    # keys of the other dimension (interface.md, additions of 2026-11-23)
+    "dim3_m_b_in_2d": ("dim3_m_b_in_2d.yaml", [], ["dim3_m_b_in_2d.yaml:4: discretization.m_b has no meaning in 2D"]),
+    "dim3_w_in_3d": ("dim3_w_in_3d.yaml", [], ["dim3_w_in_3d.yaml:3: supports.bottom.w names dof w, which has no meaning in 3D", "u1, u2, u3, w1, w2, w3"]),
+    "dim3_u3_in_2d": ("dim3_u3_in_2d.yaml", [], ["dim3_u3_in_2d.yaml:4: supports.top.u3 names dof u3, which has no meaning in 2D"]),
+    "dim3_load3_in_3d": ("dim3_load3_in_3d.yaml", [], ["dim3_load3_in_3d.yaml:4: loads.top has 3 values, a load of a 2D scene; this scene is 3D"]),
+    "dim3_load6_in_2d": ("dim3_load6_in_2d.yaml", [], ["dim3_load6_in_2d.yaml:4: loads.top has 6 values, a load of a 3D scene; this scene is 2D"]),
+    "dim3_dimension": ("dim3_dimension.yaml", [], ["dim3_dimension.yaml:3: geometry.dimension must be 2 or 3, got 4"]),
+    "dim3_case_load": ("dim3_ok.yaml", ["-loads_top", "1,2,3"], ["command line: -loads_top has 3 values", "this scene is 3D"]),
+    # 3D restraint: the free rigid motions by axis, and an m_b = 1 hinge
+    "dim3_rotation_free": ("dim3_rotation_free.yaml", [], ["not restrained", "blocks 0, 1", "3 rigid motions free",
+                                                           "rotation about X1 (the line x2 = 0.05, x3 = 0.05)",
+                                                           "rotation about X2 (the line x1 = 0.1, x3 = 0.05)",
+                                                           "rotation about X3 (the line x1 = 0.1, x2 = 0.05)"]),
+    "dim3_translation_free": ("dim3_translation_free.yaml", [], ["not restrained", "1 rigid motion free", "free motion: translation along X3"]),
+    "dim3_hinge": ("dim3_hinge.yaml", [], ["mechanism", "m_b = 1", "block 1", "rotation about X1 (the line x2 = 0.105, x3 = 0.05)"]),
 }
 # the exit code where it is fixed: 1 for what the user gave wrong
 EXIT = {"petsc_ksp_type": 1, "petsc_schur_pc_type": 1, "petsc_number": 1, "unknown_key": 1, "negative_E": 1}

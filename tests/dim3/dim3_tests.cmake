@@ -1,0 +1,18 @@
+# Three dimensions (issue "Walls in three dimensions"): invariants of the 3D
+# code against the 2D one and closed forms.
+# Extrusion invariant: 2D on 1 rank against its extrusion on 1 and 3 ranks.
+foreach(case 1 2 3 4 5 6 7 8 9)
+  bw_py_test(dim3.extrusion.paper_${case} "dim3;paper" dim3/check_extrusion.py paper_${case})
+endforeach()
+foreach(case wall prescribed)
+  bw_py_test(dim3.extrusion.${case} dim3 dim3/check_extrusion.py ${case})
+endforeach()
+foreach(case paper_2 wall)
+  bw_py_test(dim3.extrusion.${case}_3ranks "dim3;mpi" dim3/check_extrusion.py ${case} 3)
+endforeach()
+# Two blocks under all six load components against model.md's closed form.
+foreach(grid "16;4" "5;3" "2;2")
+  list(JOIN grid "x" tag)
+  bw_py_test(dim3.closed_form.${tag} dim3 dim3/check_closed_form.py ${grid})
+endforeach()
+bw_py_test(dim3.closed_form.5x3_2ranks "dim3;mpi" dim3/check_closed_form.py 5 3 2)
