@@ -17,6 +17,7 @@
  * matrix and factors would not fit beyond it. */
 #define BW_SCHUR_GAMG_BLOCKS     200000
 #define BW_SCHUR_GAMG_BLOCKS_ONE 50000
+#define BW_DIRECT_ROWS_3D        1000000
 
 const char *const BwMethods[]     = {"auto", "fieldsplit", "direct", "condensed", "BwMethod", "BW_METHOD_", NULL};
 const char *const BwSchurSolves[] = {"auto", "cholesky", "gamg", "hypre", "BwSchurSolve", "BW_SCHUR_", NULL};
@@ -215,10 +216,18 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
     /* a PETSc with no sparse factorisation on this many ranks (a cluster's
      * build without MUMPS) leaves auto the iterative Schur solve */
     PetscCall(BwFactorPackage(s->comm, s->symmetric ? BW_FACTOR_CHOLESKY : BW_FACTOR_LU, &type));
-    s->schur_iterative = !type || own.nblocks >= (s->expected_solves > 1 ? BW_SCHUR_GAMG_BLOCKS : BW_SCHUR_GAMG_BLOCKS_ONE) ? PETSC_TRUE : PETSC_FALSE;
+    /* the thresholds count 2D blocks: a 3D block has twice the dofs */
+    s->schur_iterative = !type || own.nblocks * own.nd / 3 >= (s->expected_solves > 1 ? BW_SCHUR_GAMG_BLOCKS : BW_SCHUR_GAMG_BLOCKS_ONE) ? PETSC_TRUE : PETSC_FALSE;
   }
   else s->schur_iterative = s->schur == BW_SCHUR_GAMG || s->schur == BW_SCHUR_HYPRE ? PETSC_TRUE : PETSC_FALSE;
-  s->direct_fits     = own.nblocks < BW_SCHUR_GAMG_BLOCKS || s->requested == BW_METHOD_DIRECT ? PETSC_TRUE : PETSC_FALSE;
+  s->direct_fits = own.nblocks < BW_SCHUR_GAMG_BLOCKS || s->requested == BW_METHOD_DIRECT ? PETSC_TRUE : PETSC_FALSE;
+  /* 3D: 3 m m_b stress rows per interface (96 at m = 8, m_b = 4, against
+   * 32 in 2D at m = 16), and a graph that fills more: a sparse LU of the
+   * saddle matrix of 1e4 blocks (2.9e6 rows) was still ordering after 10
+   * minutes here, while fieldsplit had the answer in 20 s. The direct
+   * path (and the factor's round-off bound, which assembles the same
+   * matrix) is kept to saddle matrices below 1e6 rows. */
+  if (own.dim == 3 && own.nr_global + own.nq_global >= BW_DIRECT_ROWS_3D && s->requested != BW_METHOD_DIRECT) s->direct_fits = PETSC_FALSE;
   if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_FIELDSPLIT) PetscCall(BwSolverCreateFieldsplit(s, &s->fieldsplit, NULL, PETSC_FALSE));
   PetscCall(BwSolverForwardSetUp(s));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -337,6 +346,12 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
             PetscCall(BwSolverForwardBound(s, path, x, &bound));
             PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, round-off bound from the factor %.3e\n", (double)s->forward_estimate, (double)bound));
             s->forward_estimate = PetscMax(s->forward_estimate, bound);
+          } else if (s->forward_check && s->forward_estimate >= 0 && s->condition_estimate > 0) {
+            /* too large for the componentwise bound (it assembles the
+             * saddle matrix): the normwise one, condition times unit
+             * round-off, pessimistic but never below what round-off allows */
+            PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, normwise round-off bound %.3e\n", (double)s->forward_estimate, (double)(s->condition_estimate * PETSC_MACHINE_EPSILON)));
+            s->forward_estimate = PetscMax(s->forward_estimate, s->condition_estimate * PETSC_MACHINE_EPSILON);
           }
         }
       }
