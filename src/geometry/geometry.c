@@ -74,6 +74,9 @@ PetscErrorCode BwGeometryDestroy(BwGeometry *geom)
   PetscCall(PetscFree(g->iarea));
   PetscCall(PetscFree(g->poly_offsets));
   PetscCall(PetscFree(g->poly));
+  PetscCall(PetscFree(g->face_offsets));
+  PetscCall(PetscFree(g->face_voffsets));
+  PetscCall(PetscFree(g->face_vertices));
   for (PetscInt k = 0; k < g->nscenesets; k++) {
     PetscCall(PetscFree(g->scenesets[k].name));
     PetscCall(PetscFree(g->scenesets[k].blocks));
@@ -435,6 +438,39 @@ PetscErrorCode BwGeometryExtrude(BwGeometry g)
         p[1]         = g->vertices[2 * (o + k) + 1];
         p[2]         = top ? s : 0;
       }
+  }
+  /* faces: the bottom ring reversed (outward -X3), the top ring, and the
+   * side quadrilaterals (edge, then up: outward for a counter-clockwise ring) */
+  {
+    PetscInt nf = 0, nfv = 0;
+    PetscCall(PetscMalloc1(nb + 1, &g->face_offsets));
+    g->face_offsets[0] = 0;
+    for (PetscInt b = 0; b < nb; b++) {
+      const PetscInt nv = g->offsets[b + 1] - g->offsets[b];
+      g->face_offsets[b + 1] = g->face_offsets[b] + nv + 2;
+      nfv += 2 * nv + 4 * nv;
+    }
+    nf = g->face_offsets[nb];
+    PetscCall(PetscMalloc1(nf + 1, &g->face_voffsets));
+    PetscCall(PetscMalloc1(nfv + 1, &g->face_vertices));
+    nf  = 0;
+    nfv = 0;
+    g->face_voffsets[0] = 0;
+    for (PetscInt b = 0; b < nb; b++) {
+      const PetscInt o = 2 * g->offsets[b], nv = g->offsets[b + 1] - g->offsets[b];
+      for (PetscInt k = nv - 1; k >= 0; k--) g->face_vertices[nfv++] = o + k;
+      g->face_voffsets[++nf] = nfv;
+      for (PetscInt k = 0; k < nv; k++) g->face_vertices[nfv++] = o + nv + k;
+      g->face_voffsets[++nf] = nfv;
+      for (PetscInt k = 0; k < nv; k++) {
+        const PetscInt k1 = (k + 1) % nv;
+        g->face_vertices[nfv++] = o + k;
+        g->face_vertices[nfv++] = o + k1;
+        g->face_vertices[nfv++] = o + nv + k1;
+        g->face_vertices[nfv++] = o + nv + k;
+        g->face_voffsets[++nf] = nfv;
+      }
+    }
   }
   for (PetscInt b = 0; b <= nb; b++) g->offsets[b] *= 2;
   g->nvertices *= 2;

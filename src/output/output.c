@@ -323,11 +323,16 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutput
     PetscCall(BwXdmfDataCreate(geom, own.nown_blocks, own.own_blocks, res->displacement, &x));
     dims[0] = (hsize_t)x.ntopology;
     PetscCall(BwH5FileWriteAll(h, "/xdmf/topology", H5T_NATIVE_INT64, 1, dims, x.topology));
-    dims[0] = 2 * (hsize_t)ni;
-    dims[1] = 2;
-    PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_points", H5T_NATIVE_DOUBLE, 2, dims, x.interface_points));
-    dims[0] = (hsize_t)ni;
-    PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 2, dims, x.interface_topology));
+    if (geom->dim == 3) {
+      dims[0] = (hsize_t)x.ninterface_topology;
+      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 1, dims, x.interface_topology));
+    } else {
+      dims[0] = 2 * (hsize_t)ni;
+      dims[1] = 2;
+      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_points", H5T_NATIVE_DOUBLE, 2, dims, x.interface_points));
+      dims[0] = (hsize_t)ni;
+      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 2, dims, x.interface_topology));
+    }
     dims[0] = (hsize_t)geom->offsets[nb];
     dims[1] = 3;
     PetscCall(BwH5FileWrite(h, "/xdmf/vertex_displacement", H5T_NATIVE_DOUBLE, 2, dims, x.nvertex_rows, x.vertex_rows, x.vertex_displacement));
@@ -436,7 +441,8 @@ static PetscLogDouble BwOutputBytes(BwOutput out, BwMixed mx, const char scene_t
     if (out->stresses) bytes += ni * model->m * 16;
   }
   bytes += g->setoffsets[g->nsets] * 8.0 + g->nsets * 1024.0;
-  if (out->xdmf) bytes += (nv + 2 * nb) * 8 + ni * (32 + 16) + nv * 24;
+  if (out->xdmf && g->dim == 3) bytes += (g->face_voffsets[g->face_offsets[g->nblocks]] + 2 * nb + g->face_offsets[g->nblocks]) * 8.0 + (g->poly_offsets[g->ninterfaces] + 2 * ni) * 8.0 + nv * 24;
+  else if (out->xdmf) bytes += (nv + 2 * nb) * 8 + ni * (32 + 16) + nv * 24;
   if (model->nonlinear) bytes += ni * model->m * 17.0;
   /* each step: displacement, reaction, resultant, relative displacement,
    * state, the stresses if asked, the vertex displacement for XDMF */

@@ -31,7 +31,7 @@
 #include "util/compat.h"
 
 /* Cell type codes of XDMF (XdmfTopologyType). */
-enum { BW_XDMF_POLYGON = 0x3, BW_XDMF_TRIANGLE = 0x4, BW_XDMF_QUADRILATERAL = 0x5 };
+enum { BW_XDMF_POLYGON = 0x3, BW_XDMF_TRIANGLE = 0x4, BW_XDMF_QUADRILATERAL = 0x5, BW_XDMF_POLYHEDRON = 0x10 };
 
 static int BwXdmfCellType(BwGeometry g, PetscInt b)
 {
@@ -48,12 +48,83 @@ static int BwXdmfCellType(BwGeometry g, PetscInt b)
   return BW_XDMF_QUADRILATERAL;
 }
 
+/* 3D: a block is a Polyhedron cell: its code, its number of faces, then
+ * per face its number of vertices and their ids (VTK's Xdmf3 reader reads
+ * it as a VTK polyhedron). An interface polygon: Triangle, Quadrilateral
+ * or Polygon (with its count) as in 2D. */
 static PetscInt BwXdmfTopologyLength(BwGeometry g)
 {
   PetscInt len = 0;
 
+  if (g->dim == 3) {
+    for (PetscInt b = 0; b < g->nblocks; b++) {
+      len += 2;
+      for (PetscInt f = g->face_offsets[b]; f < g->face_offsets[b + 1]; f++) len += 1 + g->face_voffsets[f + 1] - g->face_voffsets[f];
+    }
+    return len;
+  }
   for (PetscInt b = 0; b < g->nblocks; b++) len += 1 + (BwXdmfCellType(g, b) == BW_XDMF_POLYGON) + g->offsets[b + 1] - g->offsets[b];
   return len;
+}
+
+static int BwXdmfPolygonType(PetscInt nv)
+{
+  return nv == 3 ? BW_XDMF_TRIANGLE : nv == 4 ? BW_XDMF_QUADRILATERAL : BW_XDMF_POLYGON;
+}
+
+static PetscInt BwXdmfInterfaceTopologyLength(BwGeometry g)
+{
+  PetscInt len = 0;
+
+  if (g->dim != 3) return 2 * g->ninterfaces;
+  for (PetscInt k = 0; k < g->ninterfaces; k++) {
+    PetscInt nv = g->poly_offsets[k + 1] - g->poly_offsets[k];
+    len += 1 + (BwXdmfPolygonType(nv) == BW_XDMF_POLYGON) + nv;
+  }
+  return len;
+}
+
+/* 3D: the polyhedra, the interface polygons, and u + w x (x - c) at the
+ * vertices of the owned blocks. */
+static PetscErrorCode BwXdmfDataCreate3D(BwGeometry geom, PetscInt nown, const PetscInt own[], const PetscReal displacement[], BwXdmfData *x)
+{
+  PetscInt nb = geom->nblocks, ni = geom->ninterfaces, k = 0;
+
+  PetscFunctionBeginUser;
+  x->ntopology           = BwXdmfTopologyLength(geom);
+  x->ninterface_topology = BwXdmfInterfaceTopologyLength(geom);
+  PetscCall(PetscMalloc3(x->ntopology + 1, &x->topology, 1, &x->interface_points, x->ninterface_topology + 1, &x->interface_topology));
+  for (PetscInt b = 0; b < nb; b++) {
+    x->topology[k++] = BW_XDMF_POLYHEDRON;
+    x->topology[k++] = geom->face_offsets[b + 1] - geom->face_offsets[b];
+    for (PetscInt f = geom->face_offsets[b]; f < geom->face_offsets[b + 1]; f++) {
+      x->topology[k++] = geom->face_voffsets[f + 1] - geom->face_voffsets[f];
+      for (PetscInt v = geom->face_voffsets[f]; v < geom->face_voffsets[f + 1]; v++) x->topology[k++] = geom->face_vertices[v];
+    }
+  }
+  k = 0;
+  for (PetscInt i = 0; i < ni; i++) {
+    PetscInt nv = geom->poly_offsets[i + 1] - geom->poly_offsets[i];
+    int      type = BwXdmfPolygonType(nv);
+    x->interface_topology[k++] = type;
+    if (type == BW_XDMF_POLYGON) x->interface_topology[k++] = nv;
+    for (PetscInt v = geom->poly_offsets[i]; v < geom->poly_offsets[i + 1]; v++) x->interface_topology[k++] = v;
+  }
+  for (PetscInt e = 0; e < nown; e++) x->nvertex_rows += geom->offsets[own[e] + 1] - geom->offsets[own[e]];
+  PetscCall(PetscMalloc2(x->nvertex_rows + 1, &x->vertex_rows, 3 * x->nvertex_rows + 1, &x->vertex_displacement));
+  k = 0;
+  for (PetscInt e = 0; e < nown; e++) {
+    PetscInt         b = own[e];
+    const PetscReal *u = displacement + 6 * e, *w = u + 3, *c = geom->centroid + 3 * b;
+    for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++, k++) {
+      const PetscReal *p = geom->vertices + 3 * v, r[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
+      x->vertex_rows[k]                 = v;
+      x->vertex_displacement[3 * k]     = u[0] + w[1] * r[2] - w[2] * r[1];
+      x->vertex_displacement[3 * k + 1] = u[1] + w[2] * r[0] - w[0] * r[2];
+      x->vertex_displacement[3 * k + 2] = u[2] + w[0] * r[1] - w[1] * r[0];
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwXdmfDataCreate(BwGeometry geom, PetscInt nown, const PetscInt own[], const PetscReal displacement[], BwXdmfData *x)
@@ -62,7 +133,12 @@ PetscErrorCode BwXdmfDataCreate(BwGeometry geom, PetscInt nown, const PetscInt o
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(x, sizeof(*x)));
-  x->ntopology = BwXdmfTopologyLength(geom);
+  if (geom->dim == 3) {
+    PetscCall(BwXdmfDataCreate3D(geom, nown, own, displacement, x));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  x->ntopology           = BwXdmfTopologyLength(geom);
+  x->ninterface_topology = 2 * ni;
   PetscCall(PetscMalloc3(x->ntopology + 1, &x->topology, 4 * ni + 1, &x->interface_points, 2 * ni + 1, &x->interface_topology));
   for (PetscInt b = 0; b < nb; b++) {
     int type = BwXdmfCellType(geom, b);
@@ -162,46 +238,59 @@ static PetscErrorCode BwXdmfField(FILE *fp, const char ref[], const char name[],
  * displacement); `ind` the indentation. */
 static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, const char at[], PetscInt step, PetscInt m_state)
 {
-  char     dims[64], path[128], topo[128];
-  PetscInt nb = geom->nblocks, nv = geom->offsets[nb], ni = geom->ninterfaces;
+  char           dims[64], path[128], topo[128];
+  PetscInt       nb = geom->nblocks, nv = geom->offsets[nb], ni = geom->ninterfaces;
+  const PetscInt d = geom->dim, nd = d == 3 ? 6 : 3;
+  const char    *xy = d == 3 ? "XYZ" : "XY";
 
   PetscFunctionBeginUser;
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Grid Name=\"blocks\" GridType=\"Uniform\">\n"));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Mixed\" NumberOfElements=\"%" PetscInt_FMT "\">\n", nb));
   PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, BwXdmfTopologyLength(geom)));
   PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/topology", dims, "Int", 8));
-  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"XY\">\n"));
-  PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", nv));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"%s\">\n", xy));
+  PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " %" PetscInt_FMT, nv, d));
   PetscCall(BwXdmfItem(fp, "        ", ref, "/blocks/vertices", dims, "Float", 8));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
   if (step >= 0) PetscCall(PetscSNPrintf(topo, sizeof(topo), "/xdmf/steps/%06" PetscInt_FMT "/vertex_displacement", step));
   else PetscCall(PetscStrncpy(topo, "/xdmf/vertex_displacement", sizeof(topo)));
   PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", topo, nv, 3, "Float", 8));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/blocks/displacement", at));
-  PetscCall(BwXdmfField(fp, ref, "displacement", "Cell", path, nb, 3, "Float", 8));
+  PetscCall(BwXdmfField(fp, ref, "displacement", "Cell", path, nb, nd, "Float", 8));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/blocks/reaction", at));
-  PetscCall(BwXdmfField(fp, ref, "reaction", "Cell", path, nb, 3, "Float", 8));
+  PetscCall(BwXdmfField(fp, ref, "reaction", "Cell", path, nb, nd, "Float", 8));
   if (step < 0) {
-    PetscCall(BwXdmfField(fp, ref, "load", "Cell", "/blocks/load", nb, 3, "Float", 8));
-    PetscCall(BwXdmfField(fp, ref, "prescribed", "Cell", "/blocks/prescribed", nb, 3, "Char", 1));
+    PetscCall(BwXdmfField(fp, ref, "load", "Cell", "/blocks/load", nb, nd, "Float", 8));
+    PetscCall(BwXdmfField(fp, ref, "prescribed", "Cell", "/blocks/prescribed", nb, nd, "Char", 1));
   }
-  PetscCall(BwXdmfField(fp, ref, "centroid", "Cell", "/blocks/centroid", nb, 2, "Float", 8));
+  PetscCall(BwXdmfField(fp, ref, "centroid", "Cell", "/blocks/centroid", nb, d, "Float", 8));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    </Grid>\n"));
 
   /* an empty grid is an error to some readers: no interfaces, no grid */
   if (ni > 0) {
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Grid Name=\"interfaces\" GridType=\"Uniform\">\n"));
-    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"%" PetscInt_FMT "\">\n", ni));
-    PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", ni));
-    PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_topology", dims, "Int", 8));
-    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"XY\">\n"));
-    PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", 2 * ni));
-    PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_points", dims, "Float", 8));
-    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
+    if (d == 3) {
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Mixed\" NumberOfElements=\"%" PetscInt_FMT "\">\n", ni));
+      PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, BwXdmfInterfaceTopologyLength(geom)));
+      PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_topology", dims, "Int", 8));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n"));
+      PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 3", geom->poly_offsets[ni]));
+      PetscCall(BwXdmfItem(fp, "        ", ref, "/interfaces/vertices", dims, "Float", 8));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
+      PetscCall(BwXdmfField(fp, ref, "area", "Cell", "/interfaces/area", ni, 1, "Float", 8));
+    } else {
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"%" PetscInt_FMT "\">\n", ni));
+      PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", ni));
+      PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_topology", dims, "Int", 8));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"XY\">\n"));
+      PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 2", 2 * ni));
+      PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_points", dims, "Float", 8));
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
+    }
     PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interfaces/resultant", at));
-    PetscCall(BwXdmfField(fp, ref, "resultant", "Cell", path, ni, 3, "Float", 8));
+    PetscCall(BwXdmfField(fp, ref, "resultant", "Cell", path, ni, nd, "Float", 8));
     PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interfaces/relative_displacement", at));
-    PetscCall(BwXdmfField(fp, ref, "relative_displacement", "Cell", path, ni, 3, "Float", 8));
+    PetscCall(BwXdmfField(fp, ref, "relative_displacement", "Cell", path, ni, nd, "Float", 8));
     if (m_state > 0) {
       /* the mode of each portion: m components per interface */
       PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interfaces/state", at));

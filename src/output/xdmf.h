@@ -13,7 +13,11 @@
  *   /xdmf/topology             int64   Mixed connectivity of the blocks
  *   /xdmf/vertex_displacement  float64 (V, 3)  u(x) of each vertex, z = 0
  *   /xdmf/interface_points     float64 (2I, 2) G -/+ l/2 t per interface
- *   /xdmf/interface_topology   int64   (I, 2)  2k, 2k+1 */
+ *   /xdmf/interface_topology   int64   (I, 2)  2k, 2k+1
+ * In 3D the blocks are Polyhedron cells (their faces), /xdmf/vertex_displacement
+ * is u + w x (x - c), the interfaces are the polygons /interfaces/vertices
+ * with /xdmf/interface_topology their Mixed list, and there are no
+ * /xdmf/interface_points. */
 #pragma once
 #include <stdint.h>
 #include "geometry/geometry.h"
@@ -23,8 +27,9 @@
 typedef struct {
   PetscInt   ntopology;
   int64_t   *topology;
-  PetscReal *interface_points;   /* 4 per interface */
-  int64_t   *interface_topology; /* 2 per interface */
+  PetscReal *interface_points;   /* 2D: 4 per interface */
+  PetscInt   ninterface_topology;
+  int64_t   *interface_topology; /* 2D: 2 per interface; 3D: the Mixed list of the interface polygons */
   PetscInt   nvertex_rows;       /* vertices of the owned blocks, ascending */
   PetscInt  *vertex_rows;
   PetscReal *vertex_displacement; /* 3 per row */

@@ -16,3 +16,7 @@ foreach(grid "16;4" "5;3" "2;2")
   bw_py_test(dim3.closed_form.${tag} dim3 dim3/check_closed_form.py ${grid})
 endforeach()
 bw_py_test(dim3.closed_form.5x3_2ranks "dim3;mpi" dim3/check_closed_form.py 5 3 2)
+# The 3D XDMF opened by ParaView's readers: polyhedra, interface polygons, fields.
+foreach(np 1 3)
+  bw_py_test(dim3.xdmf_np${np} "dim3;post" dim3/check_xdmf.py ${np})
+endforeach()
