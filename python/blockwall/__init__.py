@@ -17,7 +17,7 @@ Modules: geometry (write/read the HDF5 geometry input), polygon (the
 checks blockwall makes, in Python), results (read a result file), launch
 (run blockwall with mpiexec), plots and summary (pictures and the table
 tools/plot prints), dxf (tools/import_dxf), accuracy (tools/error_vs_time)."""
-from .geometry import Geometry, read_geometry, rectangle, write_geometry
+from .geometry import Geometry, box, prism, read_geometry, rectangle, write_geometry
 from .launch import RunError, RunResult, command, environment, find_executable, run, solve
 from .results import Results, Step, load, read, read_datasets, rigid_displacement
 

@@ -11,6 +11,7 @@ or in one call, `write_geometry("wall.h5", blocks, sets={...})`.
 
 What is written:
     /blocks/vertices   float64 (V, 2)   every block's corners, counter-clockwise
+                       float64 (V, 3)   3D: every block's vertices (the block is their convex hull)
     /blocks/offsets    int64   (B+1)    block b is rows offsets[b]..offsets[b+1]-1
     /interfaces/blocks int64   (I, 2)   only if pairs are given: (i, j), i < j
     /interfaces/kn, kt float64 (I)      only if given: per-interface stiffness [N/m^3]
@@ -43,6 +44,17 @@ def rectangle(x0, y0, x1, y1):
     return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], float)
 
 
+def box(x0, y0, z0, x1, y1, z1):
+    """The 8 corners of the box [x0, x1] x [y0, y1] x [z0, z1] (a 3D block)."""
+    return np.array([[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)], float)
+
+
+def prism(outline, z0, z1):
+    """A 3D block: the 2D outline (n, 2) in X1-X2 extruded over x3 in [z0, z1]."""
+    p = np.asarray(outline, float)
+    return np.concatenate([np.column_stack([p, np.full(len(p), z0)]), np.column_stack([p, np.full(len(p), z1)])])
+
+
 def atomic_h5(path, fill):
     """Create `path` by writing a temporary HDF5 file beside it with
     fill(h5py.File) and renaming it; on any exception nothing is left."""
@@ -62,8 +74,10 @@ def atomic_h5(path, fill):
 
 @dataclass
 class Geometry:
-    """Blocks (polygons), named sets, optional explicit interfaces with
-    optional per-interface stiffness, optional depth."""
+    """Blocks (polygons (n, 2), or 3D vertex sets (n, 3) whose convex hull
+    is the block: box(), prism() or any convex set), named sets, optional
+    explicit interfaces with optional per-interface stiffness, optional
+    depth (2D only)."""
     depth: float | None = None
     blocks: list = field(default_factory=list)
     sets: dict = field(default_factory=dict)
@@ -105,23 +119,42 @@ class Geometry:
                        depth=self.depth, check=check)
 
 
+def _checked_3d(polys, depth):
+    """3D blocks: any vertex set of at least 4 finite points (blockwall
+    takes the convex hull and checks that every vertex is a corner of it)."""
+    for b, p in enumerate(polys):
+        if p.ndim != 2 or p.shape[1] != 3:
+            raise ValueError(f"block {b}: vertices must be an (n, 3) array like the other blocks, got shape {p.shape}")
+        if len(p) < 4:
+            raise ValueError(f"block {b}: {len(p)} vertices; a 3D block needs at least 4")
+        if not np.all(np.isfinite(p)):
+            raise ValueError(f"block {b}: non-finite coordinate")
+    if depth is not None:
+        raise ValueError("depth: a 3D geometry has no depth (its blocks have their own thickness)")
+    return polys
+
+
 def _checked(blocks, sets, pairs, kn, kt, depth, check_overlaps):
     polys = [np.asarray(b, float) for b in blocks]
     if not polys:
         raise ValueError("no blocks")
-    for b, p in enumerate(polys):
+    three_d = polys[0].ndim == 2 and polys[0].shape[1] == 3
+    if three_d:
+        polys = _checked_3d(polys, depth)
+    for b, p in enumerate(polys if not three_d else []):
         if p.ndim != 2 or p.shape[1] != 2:
             raise ValueError(f"block {b}: corners must be an (n, 2) array, got shape {p.shape}")
         if not np.all(np.isfinite(p)):
             raise ValueError(f"block {b}: non-finite coordinate")
-    delta = polygon.tolerance(polys)
-    for b, p in enumerate(polys):
-        try:
-            polygon.check(p, delta)
-        except polygon.PolygonError as e:
-            raise ValueError(f"block {b} {e}") from None
-    polys = [polygon.counter_clockwise(p) for p in polys]
-    if check_overlaps:
+    if not three_d:
+        delta = polygon.tolerance(polys)
+        for b, p in enumerate(polys):
+            try:
+                polygon.check(p, delta)
+            except polygon.PolygonError as e:
+                raise ValueError(f"block {b} {e}") from None
+        polys = [polygon.counter_clockwise(p) for p in polys]
+    if check_overlaps and not three_d:
         found = polygon.overlaps(polys, delta)
         if found:
             i, j, area = found[0]

@@ -46,6 +46,7 @@ typedef struct {
   PetscReal *xy, *kn, *kt;
   int64_t   *offsets, *pairs;
   PetscBool  has_pairs, has_depth;
+  PetscInt   dim; /* 2 | 3: the columns of /blocks/vertices */
   PetscReal  depth;
   PetscInt   nsets, *setlen;
   char     **setname;
@@ -294,9 +295,21 @@ static PetscErrorCode BwFileRead(BwFileData *d)
   PetscCheck(exists, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: no dataset /blocks/vertices; a geometry file needs /blocks/vertices (V, 2) and /blocks/offsets (B+1)", d->path);
   PetscCall(BwH5Exists(d, "/blocks/offsets", &exists));
   PetscCheck(exists, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: no dataset /blocks/offsets; a geometry file needs /blocks/vertices (V, 2) and /blocks/offsets (B+1)", d->path);
-  PetscCall(BwH5Open(d, "/blocks/vertices", H5T_FLOAT, 2, 2, "float64 (V, 2): x, y of every vertex", &dset, &rows));
+  /* the file decides its dimension by the columns of /blocks/vertices */
+  d->dim = 2;
+  {
+    hid_t o = H5Dopen2(d->file, "/blocks/vertices", H5P_DEFAULT);
+    if (o >= 0) {
+      hid_t   sp = H5Dget_space(o);
+      hsize_t dims[H5S_MAX_RANK];
+      if (H5Sget_simple_extent_ndims(sp) == 2 && H5Sget_simple_extent_dims(sp, dims, NULL) == 2 && dims[1] == 3) d->dim = 3;
+      H5Sclose(sp);
+      H5Dclose(o);
+    }
+  }
+  PetscCall(BwH5Open(d, "/blocks/vertices", H5T_FLOAT, 2, (hsize_t)d->dim, d->dim == 3 ? "float64 (V, 3): x1, x2, x3 of every vertex" : "float64 (V, 2): x, y of every vertex (or (V, 3): 3D blocks)", &dset, &rows));
   d->nv = (PetscInt)rows;
-  PetscCall(PetscMalloc1(2 * d->nv + 1, &d->xy));
+  PetscCall(PetscMalloc1(d->dim * d->nv + 1, &d->xy));
   PetscCall(BwH5Read(d, "/blocks/vertices", dset, H5T_NATIVE_DOUBLE, rows, d->xy));
   PetscCall(BwH5Open(d, "/blocks/offsets", H5T_INTEGER, 1, 0, "int64 (B+1): block b has vertex rows offsets[b]..offsets[b+1]-1", &dset, &nb1));
   PetscCheck(nb1 >= 2, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/offsets has %llu entries; it needs B+1 >= 2 (at least one block)", d->path, (unsigned long long)nb1);
@@ -437,6 +450,27 @@ static PetscErrorCode BwFileExplicitInterfaces(BwGeometry g, BwFileData *d, cons
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The file's per-interface stiffness and sets into g. */
+static PetscErrorCode BwFileStiffnessAndSets(BwGeometry g, BwFileData *d)
+{
+  PetscFunctionBeginUser;
+  for (int s = 0; s < 2; s++) {
+    const PetscReal *k = s ? d->kt : d->kn;
+    PetscReal      **to = s ? &g->kt : &g->kn;
+    if (!k) continue;
+    PetscCall(PetscMalloc1(d->ni + 1, to));
+    PetscCall(PetscArraycpy(*to, k, d->ni));
+  }
+  for (PetscInt s = 0; s < d->nsets; s++) {
+    PetscInt *members;
+    PetscCall(PetscMalloc1(d->setlen[s] + 1, &members));
+    for (PetscInt k = 0; k < d->setlen[s]; k++) members[k] = (PetscInt)d->setdata[s][k];
+    PetscCall(BwGeometryAddSet(g, d->setname[s], d->setlen[s], members));
+    PetscCall(PetscFree(members));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Rank 0: everything from the file into g. */
 static PetscErrorCode BwFileBuild(BwGeometry g, BwFileData *d, PetscReal thickness)
 {
@@ -445,6 +479,11 @@ static PetscErrorCode BwFileBuild(BwGeometry g, BwFileData *d, PetscReal thickne
   PetscFunctionBeginUser;
   PetscCall(BwFileRead(d));
   PetscCall(BwFileCheckIndices(d));
+  if (d->dim == 3) {
+    PetscCall(BwFileBuild3D(g, d->path, d->nv, d->xy, d->nb, d->offsets, d->has_pairs, d->ni, d->pairs, thickness));
+    PetscCall(BwFileStiffnessAndSets(g, d));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   /* finite coordinates first: the tolerances are computed from them */
   for (PetscInt b = 0; b < d->nb; b++) {
     for (int64_t v = d->offsets[b]; v < d->offsets[b + 1]; v++)
@@ -468,21 +507,85 @@ static PetscErrorCode BwFileBuild(BwGeometry g, BwFileData *d, PetscReal thickne
   if (d->has_pairs) PetscCall(BwFileExplicitInterfaces(g, d, &tol));
   else PetscCall(BwDetectInterfaces(g, &tol));
   PetscCall(BwValidateConnected(d->path, g, d->has_pairs ? PETSC_FALSE : PETSC_TRUE, &tol));
-  for (int s = 0; s < 2; s++) {
-    const PetscReal *k = s ? d->kt : d->kn;
-    PetscReal      **to = s ? &g->kt : &g->kn;
-    if (!k) continue;
-    PetscCall(PetscMalloc1(d->ni + 1, to));
-    PetscCall(PetscArraycpy(*to, k, d->ni));
-  }
-  for (PetscInt s = 0; s < d->nsets; s++) {
-    PetscInt *members;
-    PetscCall(PetscMalloc1(d->setlen[s] + 1, &members));
-    for (PetscInt k = 0; k < d->setlen[s]; k++) members[k] = (PetscInt)d->setdata[s][k];
-    PetscCall(BwGeometryAddSet(g, d->setname[s], d->setlen[s], members));
-    PetscCall(PetscFree(members));
-  }
+  PetscCall(BwFileStiffnessAndSets(g, d));
   if (d->has_depth) g->depth = d->depth;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* What 2D and 3D broadcast alike: kinds, stiffness, sets. */
+static PetscErrorCode BwGeometryBcastCommon(BwGeometry g, const PetscInt n[7])
+{
+  PetscMPIInt rank;
+  PetscInt    namelen = 0;
+  char       *names   = NULL;
+  int        *kind;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
+  PetscCall(PetscMalloc1(n[2] + 1, &kind));
+  for (PetscInt k = 0; k < n[2]; k++) kind[k] = (int)g->kind[k];
+  PetscCallMPI(MPI_Bcast(kind, (PetscMPIInt)n[2], MPI_INT, 0, g->comm));
+  for (PetscInt k = 0; k < n[2]; k++) g->kind[k] = (BwJointKind)kind[k];
+  PetscCall(PetscFree(kind));
+  if (n[5]) PetscCallMPI(MPI_Bcast(g->kn, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
+  if (n[6]) PetscCallMPI(MPI_Bcast(g->kt, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->setoffsets, (PetscMPIInt)(n[3] + 1), MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->setblocks, (PetscMPIInt)n[4], MPIU_INT, 0, g->comm));
+  /* set names, '\0'-separated */
+  if (!rank)
+    for (PetscInt s = 0; s < n[3]; s++) namelen += (PetscInt)strlen(g->setname[s]) + 1;
+  PetscCallMPI(MPI_Bcast(&namelen, 1, MPIU_INT, 0, g->comm));
+  PetscCall(PetscMalloc1(namelen + 1, &names));
+  if (!rank)
+    for (PetscInt s = 0, at = 0; s < n[3]; s++) {
+      PetscCall(PetscStrcpy(names + at, g->setname[s]));
+      at += (PetscInt)strlen(g->setname[s]) + 1;
+    }
+  PetscCallMPI(MPI_Bcast(names, (PetscMPIInt)namelen, MPI_CHAR, 0, g->comm));
+  if (rank)
+    for (PetscInt s = 0, at = 0; s < n[3]; s++) {
+      PetscCall(PetscStrallocpy(names + at, &g->setname[s]));
+      at += (PetscInt)strlen(names + at) + 1;
+    }
+  PetscCall(PetscFree(names));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* 3D: the arrays the 2D geometry does not have, and those of other widths. */
+static PetscErrorCode BwGeometryBcast3D(BwGeometry g, const PetscInt n[7])
+{
+  PetscMPIInt rank;
+  PetscInt    m[3] = {g->face_offsets ? g->face_offsets[g->nblocks] : 0, 0, g->poly_offsets ? g->poly_offsets[g->ninterfaces] : 0};
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
+  if (!rank) m[1] = g->face_voffsets[m[0]];
+  PetscCallMPI(MPI_Bcast(m, 3, MPIU_INT, 0, g->comm));
+  if (rank) {
+    g->dim = 3;
+    PetscCall(PetscMalloc1(3 * n[1] + 1, &g->vertices));
+    PetscCall(PetscMalloc1(3 * n[0] + 1, &g->centroid));
+    PetscCall(PetscMalloc1(n[0] + 1, &g->volume));
+    PetscCall(PetscMalloc1(n[0] + 1, &g->face_offsets));
+    PetscCall(PetscMalloc1(m[0] + 1, &g->face_voffsets));
+    PetscCall(PetscMalloc1(m[1] + 1, &g->face_vertices));
+    PetscCall(PetscMalloc1(3 * n[2] + 1, &g->center));
+    PetscCall(PetscMalloc1(9 * n[2] + 1, &g->frame));
+    PetscCall(PetscMalloc1(n[2] + 1, &g->iarea));
+    PetscCall(PetscMalloc1(n[2] + 1, &g->poly_offsets));
+    PetscCall(PetscMalloc1(3 * m[2] + 1, &g->poly));
+  }
+  PetscCallMPI(MPI_Bcast(g->vertices, (PetscMPIInt)(3 * n[1]), MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->centroid, (PetscMPIInt)(3 * n[0]), MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->volume, (PetscMPIInt)n[0], MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->face_offsets, (PetscMPIInt)(n[0] + 1), MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->face_voffsets, (PetscMPIInt)(m[0] + 1), MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->face_vertices, (PetscMPIInt)m[1], MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->center, (PetscMPIInt)(3 * n[2]), MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->frame, (PetscMPIInt)(9 * n[2]), MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->iarea, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->poly_offsets, (PetscMPIInt)(n[2] + 1), MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(g->poly, (PetscMPIInt)(3 * m[2]), MPIU_REAL, 0, g->comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -490,14 +593,38 @@ static PetscErrorCode BwFileBuild(BwGeometry g, BwFileData *d, PetscReal thickne
 static PetscErrorCode BwGeometryBcast(BwGeometry g)
 {
   PetscMPIInt rank;
-  PetscInt    n[7] = {g->nblocks, g->nvertices, g->ninterfaces, g->nsets, g->nsets ? g->setoffsets[g->nsets] : 0, g->kn ? 1 : 0, g->kt ? 1 : 0}, namelen = 0;
-  char       *names = NULL;
-  int        *kind;
+  PetscInt    n[7] = {g->nblocks, g->nvertices, g->ninterfaces, g->nsets, g->nsets ? g->setoffsets[g->nsets] : 0, g->kn ? 1 : 0, g->kt ? 1 : 0};
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
   PetscCallMPI(MPI_Bcast(n, 7, MPIU_INT, 0, g->comm));
   PetscCallMPI(MPI_Bcast(&g->depth, 1, MPIU_REAL, 0, g->comm));
+  {
+    PetscInt dim = g->volume ? 3 : 2;
+    PetscCallMPI(MPI_Bcast(&dim, 1, MPIU_INT, 0, g->comm));
+    if (dim == 3) {
+      PetscCall(BwGeometryBcast3D(g, n));
+      if (rank) {
+        g->nblocks = g->maxblocks = n[0];
+        g->nvertices = g->maxvertices = n[1];
+        g->ninterfaces = g->maxinterfaces = n[2];
+        g->nsets = g->maxsets = n[3];
+        g->maxsetblocks       = n[4];
+        PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(n[0] + 1), &g->offsets));
+        PetscCall(PetscMalloc1(2 * n[2] + 1, &g->pair));
+        PetscCall(PetscMalloc1(n[2] + 1, &g->kind));
+        if (n[5]) PetscCall(PetscMalloc1(n[2] + 1, &g->kn));
+        if (n[6]) PetscCall(PetscMalloc1(n[2] + 1, &g->kt));
+        PetscCall(PetscCalloc1(n[3] + 1, &g->setname));
+        PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(n[3] + 1), &g->setoffsets));
+        PetscCall(PetscMalloc1(n[4] + 1, &g->setblocks));
+      }
+      PetscCallMPI(MPI_Bcast(g->offsets, (PetscMPIInt)(n[0] + 1), MPIU_INT, 0, g->comm));
+      PetscCallMPI(MPI_Bcast(g->pair, (PetscMPIInt)(2 * n[2]), MPIU_INT, 0, g->comm));
+      PetscCall(BwGeometryBcastCommon(g, n));
+      PetscFunctionReturn(PETSC_SUCCESS);
+    }
+  }
   if (rank) {
     g->nblocks = g->maxblocks = n[0];
     g->nvertices = g->maxvertices = n[1];
@@ -527,32 +654,7 @@ static PetscErrorCode BwGeometryBcast(BwGeometry g)
   PetscCallMPI(MPI_Bcast(g->center, (PetscMPIInt)(2 * n[2]), MPIU_REAL, 0, g->comm));
   PetscCallMPI(MPI_Bcast(g->angle, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
   PetscCallMPI(MPI_Bcast(g->length, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
-  PetscCall(PetscMalloc1(n[2] + 1, &kind));
-  for (PetscInt k = 0; k < n[2]; k++) kind[k] = (int)g->kind[k];
-  PetscCallMPI(MPI_Bcast(kind, (PetscMPIInt)n[2], MPI_INT, 0, g->comm));
-  for (PetscInt k = 0; k < n[2]; k++) g->kind[k] = (BwJointKind)kind[k];
-  PetscCall(PetscFree(kind));
-  if (n[5]) PetscCallMPI(MPI_Bcast(g->kn, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
-  if (n[6]) PetscCallMPI(MPI_Bcast(g->kt, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->setoffsets, (PetscMPIInt)(n[3] + 1), MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->setblocks, (PetscMPIInt)n[4], MPIU_INT, 0, g->comm));
-  /* set names, '\0'-separated */
-  if (!rank)
-    for (PetscInt s = 0; s < n[3]; s++) namelen += (PetscInt)strlen(g->setname[s]) + 1;
-  PetscCallMPI(MPI_Bcast(&namelen, 1, MPIU_INT, 0, g->comm));
-  PetscCall(PetscMalloc1(namelen + 1, &names));
-  if (!rank)
-    for (PetscInt s = 0, at = 0; s < n[3]; s++) {
-      PetscCall(PetscStrcpy(names + at, g->setname[s]));
-      at += (PetscInt)strlen(g->setname[s]) + 1;
-    }
-  PetscCallMPI(MPI_Bcast(names, (PetscMPIInt)namelen, MPI_CHAR, 0, g->comm));
-  if (rank)
-    for (PetscInt s = 0, at = 0; s < n[3]; s++) {
-      PetscCall(PetscStrallocpy(names + at, &g->setname[s]));
-      at += (PetscInt)strlen(names + at) + 1;
-    }
-  PetscCall(PetscFree(names));
+  PetscCall(BwGeometryBcastCommon(g, n));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -585,6 +687,7 @@ static PetscErrorCode BwFileGenerate(BwGenerator gen, BwGeometry g, BwScene scen
   BwFileData           d;
   char                 msg[BW_MSG_LEN] = "";
   PetscMPIInt          rank;
+  PetscInt             want;
   int                  err = 0;
 
   PetscFunctionBeginUser;
@@ -593,6 +696,7 @@ static PetscErrorCode BwFileGenerate(BwGenerator gen, BwGeometry g, BwScene scen
   PetscCall(PetscStrncpy(d.path, o->path, sizeof(d.path)));
   PetscCall(PetscStrncpy(d.where, o->where, sizeof(d.where)));
   PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
+  want = g->dim;
   if (!rank) {
     PetscErrorCode ierr = BwFileBuild(g, &d, thickness);
     if (ierr) {
@@ -608,6 +712,13 @@ static PetscErrorCode BwFileGenerate(BwGenerator gen, BwGeometry g, BwScene scen
     SETERRQ(g->comm, (PetscErrorCode)err, "%s", msg);
   }
   PetscCall(BwGeometryBcast(g));
+  /* the file decides the dimension; a scene that says otherwise is wrong */
+  {
+    PetscInt have = g->volume ? 3 : 2;
+    if (g->dim_given && want != have) PetscCall(BwSceneError(scene, "-geometry_dimension", "is %" PetscInt_FMT ", but the geometry file '%s' holds %" PetscInt_FMT "D blocks (its /blocks/vertices has %" PetscInt_FMT " columns)", want, o->path, have, have));
+    if (have == 3 && g->depth_given) PetscCall(BwSceneError(scene, "-geometry_depth", "has no meaning with a 3D geometry file ('%s'): its blocks have their own thickness", o->path));
+    g->dim = have;
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

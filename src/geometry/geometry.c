@@ -237,7 +237,7 @@ PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene)
   PetscCall(BwSceneHelpSection(scene, "Geometry (scene key geometry.*)"));
   PetscCall(BwSceneRequireMapping(scene, "-geometry", "generator, depth and the generator's keys"));
   PetscCall(BwSceneString(scene, "-geometry_generator", "Block assembly generator: two_blocks, running_bond or file", generator, sizeof(generator), NULL));
-  PetscCall(BwSceneReal(scene, "-geometry_depth", "Out-of-plane depth s of blocks and interfaces (2D), thickness along X3 of the extruded blocks (3D generators) [m]", &g->depth, NULL));
+  PetscCall(BwSceneReal(scene, "-geometry_depth", "Out-of-plane depth s of blocks and interfaces (2D), thickness along X3 of the extruded blocks (3D generators) [m]", &g->depth, &g->depth_given));
   if (!(g->depth > 0)) PetscCall(BwSceneError(scene, "-geometry_depth", "must be > 0, got %g", (double)g->depth));
   PetscCall(BwSceneInt(scene, "-geometry_dimension", "2 (blocks are polygons in X1-X2, depth along X3) or 3 (convex polyhedra; the generators extrude their 2D assembly along X3 over [0, depth])", &g->dim, &g->dim_given));
   if (g->dim != 2 && g->dim != 3) PetscCall(BwSceneError(scene, "-geometry_dimension", "must be 2 or 3, got %" PetscInt_FMT, g->dim));
@@ -255,12 +255,6 @@ PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene)
     }
     PetscCall(PetscFree(list));
     PetscCall(BwSceneError(scene, "-geometry_generator", "must be one of %s, got '%s'", names, generator));
-  }
-  {
-    PetscBool isfile;
-    PetscCall(PetscStrcmp(generator, "file", &isfile));
-    /* the reader of 3D files (convex hulls, face detection) is the next step */
-    if (isfile && g->dim == 3) PetscCall(BwSceneError(scene, "-geometry_dimension", "= 3 is not read from a geometry file yet: generators two_blocks and running_bond make 3D assemblies"));
   }
   PetscCall(PetscNew(&g->generator));
   PetscCall((*create)(g->generator));
@@ -415,8 +409,12 @@ PetscErrorCode BwGeometrySetUp(BwGeometry g, BwScene scene, PetscReal thickness)
 {
   PetscFunctionBeginUser;
   PetscCall(g->generator->generate(g->generator, g, scene, thickness));
-  PetscCall(BwGeometryComputeCentroids(g));
-  if (g->dim == 3) PetscCall(BwGeometryExtrude(g));
+  /* a generator gives polygons (extruded here in 3D); a 3D file gives
+   * polyhedra with their volumes and centroids */
+  if (!g->volume) {
+    PetscCall(BwGeometryComputeCentroids(g));
+    if (g->dim == 3) PetscCall(BwGeometryExtrude(g));
+  }
   PetscCall(BwGeometryMakeSceneSets(g, scene));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

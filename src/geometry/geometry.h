@@ -43,6 +43,7 @@ struct _n_BwGeometry {
   PetscInt  *poly_offsets; /* ninterfaces+1 */
   PetscReal *poly;         /* 3 per vertex: the interface polygons on the mid-plane, counter-clockwise about n */
   PetscBool  dim_given;    /* geometry.dimension was in the scene */
+  PetscBool  depth_given;  /* geometry.depth was in the scene */
   /* 3D blocks' faces: block b has faces face_offsets[b]..face_offsets[b+1]-1,
    * face f the vertices face_vertices[face_voffsets[f]..face_voffsets[f+1]-1]
    * (indices into vertices), counter-clockwise seen from outside */

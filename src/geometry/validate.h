@@ -13,6 +13,7 @@
  * under thousands of small units does not set the scale. */
 #pragma once
 #include "geometry/geometry.h"
+#include <stdint.h>
 
 #define BW_FACING_ANGLE 0.01
 
@@ -93,3 +94,25 @@ PetscErrorCode BwGridCreate(PetscInt nitems, BwGridShape shape, void *ctx, const
 PetscErrorCode BwGridCandidates(BwGrid *grid, PetscInt item);
 PetscErrorCode BwGridDestroy(BwGrid *grid);
 PetscErrorCode BwIntBufPush(BwIntBuf *buf, PetscInt v);
+
+/* ---- polyhedra.c, file3d.c: 3D geometry files --------------------------- */
+
+/* A convex polyhedron: its faces (vertex indices local to the block,
+ * counter-clockwise seen from outside), their outward unit normals and
+ * offsets (4 per face: n, d with n . x = d on the face), volume, centroid. */
+typedef struct {
+  PetscInt   nfaces;
+  PetscInt  *face_offsets, *face_vertices;
+  PetscReal *normal;
+  PetscReal  volume, centroid[3];
+} BwPolyhedron;
+/* The convex hull of block b's n vertices x[3 n] (rows first.. in the
+ * file), with its checks: fewer than 4 vertices, all on one plane, a vertex
+ * that is no corner of the hull. */
+PetscErrorCode BwPolyhedronHull(const char file[], PetscInt b, PetscInt first, PetscInt n, const PetscReal x[], PetscReal delta, BwPolyhedron *P);
+PetscErrorCode BwPolyhedronDestroy(BwPolyhedron *P);
+/* Rank 0: a 3D geometry file's blocks (nv vertices xyz, offsets) and its
+ * listed interfaces (pairs, or detection when has_pairs is false) into g
+ * (dim 3): hulls, volumes, centroids, faces, the overlap check, and the
+ * interface polygons between facing faces on their mid-plane. */
+PetscErrorCode BwFileBuild3D(BwGeometry g, const char file[], PetscInt nv, const PetscReal xyz[], PetscInt nb, const int64_t offsets[], PetscBool has_pairs, PetscInt ni, const int64_t pairs[], PetscReal thickness);

@@ -92,7 +92,7 @@ CASES = {
     "set_name": (base(sets={"bottom": [0], "top beam": [1]}), {}, ["/sets/top beam", "letters, digits and '_'"]),
     "sets_not_group": (with_({k: v for k, v in base().items() if not k.startswith("sets")}, sets=np.array([0], np.int64)), {},
                        ["/sets is not a group"]),
-    "vertices_shape": (with_(base(), blocks__vertices=np.zeros((8, 3))), {}, ["/blocks/vertices has shape (8, 3)", "(V, 2)"]),
+    "vertices_shape": (with_(base(), blocks__vertices=np.zeros((8, 4))), {}, ["/blocks/vertices has shape (8, 4)", "(V, 2)", "(V, 3)"]),
     "vertices_1d": (with_(base(), blocks__vertices=np.zeros(16)), {}, ["/blocks/vertices has shape (16,)"]),
     "vertices_int": (with_(base(), blocks__vertices=np.zeros((8, 2), np.int64)), {}, ["/blocks/vertices holds integer values"]),
     "offsets_float": (with_(base(), blocks__offsets=np.array([0.0, 4.0, 8.0])), {}, ["/blocks/offsets holds floating-point values"]),

@@ -20,3 +20,15 @@ bw_py_test(dim3.closed_form.5x3_2ranks "dim3;mpi" dim3/check_closed_form.py 5 3 
 foreach(np 1 3)
   bw_py_test(dim3.xdmf_np${np} "dim3;post" dim3/check_xdmf.py ${np})
 endforeach()
+# 3D geometry files: hulls, detection, frame independence, bad files.
+foreach(case twoboxes generator rotated general errors)
+  bw_py_test(dim3.file.${case} dim3 dim3/check_file.py ${case})
+endforeach()
+foreach(case generator rotated errors)
+  bw_py_test(dim3.file.${case}_3ranks "dim3;mpi" dim3/check_file.py ${case} 3)
+endforeach()
+# The 3D gallery (examples/walls3d.py): closed form and an independent solver.
+foreach(case cantilever u_wall vault)
+  bw_py_test(gallery.${case}3d "gallery;dim3" dim3/check_gallery3d.py ${case})
+endforeach()
+set_tests_properties(gallery.u_wall3d PROPERTIES LABELS "gallery;dim3;mpi")

@@ -67,7 +67,9 @@ def check_missing():
         ex = os.path.join(tmp, "examples")
         shutil.copytree(EXAMPLES, ex, ignore=shutil.ignore_patterns("*.h5", "out", "*.xdmf"))
         want = {"arch.yaml": "python3 examples/arch.py", "stones.yaml": "python3 examples/stones.py",
-                "facade.yaml": "tools/import_dxf examples/facade.dxf examples/facade.h5"}
+                "facade.yaml": "tools/import_dxf examples/facade.dxf examples/facade.h5",
+                "cantilever3d.yaml": "python3 examples/cantilever.py", "u_wall.yaml": "python3 examples/u_wall.py",
+                "vault.yaml": "python3 examples/vault.py"}
         for scene, hint in want.items():
             p = blockwall(os.path.join("examples", scene), os.path.join(tmp, "out.h5"), 1, tmp)
             lines = [l for l in p.stderr.splitlines() if l.startswith("blockwall:")]
