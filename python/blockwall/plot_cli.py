@@ -31,7 +31,8 @@ def main(argv=None, prog="tools/plot"):
         description="Draw a blockwall result: the deformed wall (STEM_wall.png) and the normal and shear "
                     "stress diagrams along interfaces (STEM_stress_K.png); for a pushover also the capacity "
                     "curve (STEM_history.png) and the crack pattern at the peak and at the end "
-                    "(STEM_cracks_peak.png, STEM_cracks_end.png); print the file's attributes.")
+                    "(STEM_cracks_peak.png, STEM_cracks_end.png); for a 3D result the deformed assembly from "
+                    "--view (STEM_3d_VIEW.png, drawn by pvpython); print the file's attributes.")
     p.add_argument("file", help="HDF5 result file written by blockwall")
     p.add_argument("--outdir", help="directory for the PNGs (default: beside the file)")
     p.add_argument("--color", choices=list(COLORS), default="umag", help="block colour (default: umag)")
@@ -40,6 +41,7 @@ def main(argv=None, prog="tools/plot"):
     p.add_argument("--interfaces", help=f"comma-separated interface indices for the stress diagrams "
                                         f"(default: all if at most {DEFAULT_ALL}, else the first {DEFAULT_FIRST})")
     p.add_argument("--dpi", type=int, default=150)
+    p.add_argument("--view", default="iso", help="3D results: iso, front, back, side or top (default: iso)")
     args = p.parse_args(argv)
     try:
         if args.scale is not None and not args.scale > 0:
@@ -54,6 +56,16 @@ def main(argv=None, prog="tools/plot"):
     outdir = args.outdir or os.path.dirname(args.file) or "."
     os.makedirs(outdir, exist_ok=True)
     stem = os.path.splitext(os.path.basename(args.file))[0]
+    if res.dimension == 3:
+        from .plot3d import render3d
+        path = os.path.join(outdir, f"{stem}_3d_{args.view}.png")
+        try:
+            scale = render3d(args.file, path, view=args.view, scale=args.scale, res=res)
+        except (RuntimeError, ValueError) as e:
+            print(f"plot: error: {e}", file=sys.stderr)
+            return 1
+        print(f"3D assembly from the {args.view} view, displacements x{scale:g}, coloured by |u|; joints by N/A: {path}")
+        return 0
     wall = plot_wall(res, args.color, args.scale)
     path = os.path.join(outdir, f"{stem}_wall.png")
     wall.figure.savefig(path, dpi=args.dpi)

@@ -58,8 +58,12 @@ def read_datasets(path):
 
 
 def rigid_displacement(points, displacement, centroid):
-    """u(x) at `points` (n, 2) of a block moving rigidly by (u1, u2, w) about `centroid`."""
+    """u(x) at `points` (n, 2) of a block moving rigidly by (u1, u2, w) about
+    `centroid`; in 3D, points (n, 3) and (u1, u2, u3, w1, w2, w3): u + w x (x - c)."""
     p = np.asarray(points, float)
+    if len(displacement) == 6:
+        u, w = np.asarray(displacement[:3], float), np.asarray(displacement[3:], float)
+        return u + np.cross(w, p - np.asarray(centroid, float))
     u1, u2, w = displacement
     return np.column_stack([u1 - w * (p[:, 1] - centroid[1]), u2 + w * (p[:, 0] - centroid[0])])
 
@@ -106,6 +110,20 @@ class Results:
     history: dict | None = None                     # load_factor, monitor, iterations, residual: (S,)
     steps: dict = field(default_factory=dict)       # step number -> Step
     datasets: dict = field(default_factory=dict)    # every dataset of the file by path
+    # 3D results (root attribute dimension = 3): the shapes above are then
+    # vertices (V, 3), centroid (B, 3), displacement, reaction, load,
+    # prescribed (B, 6), center (I, 3), relative and resultant (I, 6);
+    # angle, length and stress are None, and these hold the rest
+    dimension: int = 2
+    mb: int = 1                                     # portions along b
+    frame: np.ndarray | None = None                 # (I, 3, 3) rows t, n, b
+    area: np.ndarray | None = None                  # (I,) interface areas
+    interface_vertices: np.ndarray | None = None    # (W, 3) interface polygons ...
+    interface_offsets: np.ndarray | None = None     # (I+1,) ... by interface
+    portion_offsets: np.ndarray | None = None       # (I+1,) interface k: portions offsets[k]..offsets[k+1]-1
+    portion_center: np.ndarray | None = None        # (P, 2) (xi, eta) from G along t, b
+    portion_area: np.ndarray | None = None          # (P,)
+    portion_stress: np.ndarray | None = None        # (P, 3) rt, rn, rb
 
     @property
     def nblocks(self):
@@ -113,7 +131,7 @@ class Results:
 
     @property
     def ninterfaces(self):
-        return len(self.length)
+        return len(self.pairs)
 
     @property
     def title(self):
@@ -146,7 +164,10 @@ class Results:
         return np.stack([self.center - h, self.center + h], axis=1)
 
     def mean_stress(self):
-        """(I, 2): mean shear T/(l s) and mean normal stress N/(l s) of every interface."""
+        """(I, 2): mean shear T/(l s) and mean normal stress N/(l s) of every
+        interface (3D: |(T, Tb)|/A and N/A)."""
+        if self.dimension == 3:
+            return np.column_stack([np.hypot(self.resultant[:, 0], self.resultant[:, 2]), self.resultant[:, 1]]) / self.area[:, None]
         area = self.length * self.depth
         return self.resultant[:, :2] / area[:, None]
 
@@ -189,6 +210,24 @@ def read(path):
                     reaction=_opt(s, "blocks/reaction"), resultant=_opt(s, "interfaces/resultant"),
                     relative=_opt(s, "interfaces/relative_displacement"), state=_opt(s, "interfaces/state"),
                     stress=_opt(s, "interfaces/stress"), attrs=attributes(s))
+        if int(f.attrs.get("dimension", 2)) == 3:
+            return Results(
+                path=path, dimension=3, mb=int(f.attrs.get("m_b", 1)),
+                vertices=g("blocks/vertices"), offsets=g("blocks/offsets"), centroid=g("blocks/centroid"),
+                displacement=g("blocks/displacement"), reaction=g("blocks/reaction"), load=g("blocks/load"),
+                prescribed=g("blocks/prescribed"),
+                pairs=g("interfaces/blocks").reshape(-1, 2), center=g("interfaces/center").reshape(-1, 3),
+                angle=None, length=None, kn=g("interfaces/kn"), kt=g("interfaces/kt"),
+                relative=g("interfaces/relative_displacement").reshape(-1, 6),
+                resultant=g("interfaces/resultant").reshape(-1, 6), stress=None,
+                depth=float(f.attrs.get("depth", 0.0)), m=int(f.attrs["m"]),
+                sets={k: f["sets"][k][()] for k in f["sets"]} if "sets" in f else {},
+                attrs=attributes(f), solver=attributes(f["solver"]),
+                history=history, steps=steps, datasets=datasets,
+                frame=g("interfaces/frame"), area=g("interfaces/area"),
+                interface_vertices=g("interfaces/vertices"), interface_offsets=g("interfaces/offsets"),
+                portion_offsets=_opt(f, "interfaces/portion_offsets"), portion_center=_opt(f, "portions/center"),
+                portion_area=_opt(f, "portions/area"), portion_stress=_opt(f, "portions/stress"))
         return Results(
             path=path,
             vertices=g("blocks/vertices"), offsets=g("blocks/offsets"), centroid=g("blocks/centroid"),

@@ -4,7 +4,7 @@ after, alphabetically), with a few derived numbers that say whether the
 picture is worth a look."""
 import numpy as np
 
-ROOT_ORDER = ["version", "units", "m", "depth", "scene"]
+ROOT_ORDER = ["version", "units", "dimension", "m", "m_b", "depth", "scene"]
 SOLVER_ORDER = ["method_requested", "method_used", "fallback", "fallback_reason", "iterations", "rtol",
                 "residual", "residual_equilibrium", "residual_compatibility", "equilibrium_error", "ranks",
                 "unknowns_q", "unknowns_r"]
@@ -38,7 +38,7 @@ def summary_rows(res):
         rows.append(("file", k, _format(v)))
     for k in _ordered(res.solver, SOLVER_ORDER):
         rows.append(("solver", k, _format(res.solver[k])))
-    umax = max((float(np.max(np.hypot(*res.vertex_displacement(b).T))) for b in range(res.nblocks)), default=0.0)
+    umax = max((float(np.max(np.linalg.norm(res.vertex_displacement(b), axis=1))) for b in range(res.nblocks)), default=0.0)
     rows += [("results", "blocks", str(res.nblocks)), ("results", "interfaces", str(res.ninterfaces)),
              ("results", "max |u| at a vertex [m]", _format(umax))]
     if res.ninterfaces:

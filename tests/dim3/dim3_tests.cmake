@@ -32,3 +32,6 @@ foreach(case cantilever u_wall vault)
   bw_py_test(gallery.${case}3d "gallery;dim3" dim3/check_gallery3d.py ${case})
 endforeach()
 set_tests_properties(gallery.u_wall3d PROPERTIES LABELS "gallery;dim3;mpi")
+# tools/plot on a 3D result (pvpython, off-screen).
+bw_py_test(dim3.plot "dim3;post" dim3/check_plot3d.py)
+set_tests_properties(dim3.plot PROPERTIES RESOURCE_LOCK xvfb)

@@ -1,0 +1,138 @@
+"""Pictures of a 3D result (tools/plot on a file with dimension = 3), drawn
+by ParaView's pvpython off-screen from the XDMF file blockwall writes
+beside the result (output.xdmf): the deformed assembly (every block's
+polyhedron warped by its rigid motion, amplified) coloured by the size of
+the displacement, and the interfaces coloured by their mean normal stress
+N/A, from a chosen view.
+
+Why pvpython and not PyVista: the XDMF (polyhedra, interface polygons, the
+vertex displacement field) is the file a user opens in ParaView anyway, so
+the picture is what ParaView shows and is tested with ParaView's readers
+(tests/dim3/check_xdmf.py); Debian ships it (python3-paraview), where
+PyVista would be one more pip package with its own VTK. Debian's pvpython
+renders through X: without a display it runs under xvfb-run."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+VIEWS = {  # camera direction (from the focal point to the camera) and up
+    "iso": ([1.0, 0.8, 1.6], [0, 1, 0]),
+    "front": ([0, 0, 1.0], [0, 1, 0]),
+    "back": ([0, 0, -1.0], [0, 1, 0]),
+    "side": ([1.0, 0, 0], [0, 1, 0]),
+    "top": ([0, 1.0, 0], [0, 0, -1]),
+}
+
+_SCRIPT = r'''
+import json, sys
+from paraview import simple
+a = json.load(open(sys.argv[1]))
+blocks = simple.MergeBlocks(Input=simple.Xdmf3ReaderS(FileName=[a["blocks"]]))
+joints = simple.MergeBlocks(Input=simple.Xdmf3ReaderS(FileName=[a["interfaces"]]))
+warp = simple.WarpByVector(Input=blocks, Vectors=["POINTS", "vertex_displacement"], ScaleFactor=a["scale"])
+umag = simple.Calculator(Input=warp, AttributeType="Point Data", ResultArrayName="|u| [m]", Function="mag(vertex_displacement)")
+sig = simple.Calculator(Input=joints, AttributeType="Cell Data", ResultArrayName="N/A [Pa]", Function="resultant_1/area")
+view = simple.CreateView("RenderView")
+view.ViewSize = a["size"]
+view.Background = [1, 1, 1]
+view.OrientationAxesVisibility = 1
+try:
+    view.UseColorPaletteForBackground = 0
+except AttributeError:
+    pass
+d1 = simple.Show(umag, view)
+simple.ColorBy(d1, ("POINTS", "|u| [m]"))
+d1.RescaleTransferFunctionToDataRange(True, False)
+d1.LookupTable.ApplyPreset("Viridis (matplotlib)", True)
+d1.SetScalarBarVisibility(view, True)
+d1.Opacity = a["opacity"]
+d2 = simple.Show(sig, view)
+simple.ColorBy(d2, ("CELLS", "N/A [Pa]"))
+d2.RescaleTransferFunctionToDataRange(True, False)
+d2.LookupTable.ApplyPreset("Cool to Warm", True)
+d2.SetScalarBarVisibility(view, True)
+for lut, title in ((d1.LookupTable, "|u| [m] (blocks)"), (d2.LookupTable, "N/A [Pa] (joints)")):
+    bar = simple.GetScalarBar(lut, view)
+    bar.Title, bar.ComponentTitle = title, ""
+    bar.TitleColor = bar.LabelColor = [0, 0, 0]
+view.OrientationAxesLabelColor = [0, 0, 0]
+view.ResetCamera()
+cam = view.GetActiveCamera()
+fp = cam.GetFocalPoint()
+dist = cam.GetDistance()
+d = a["direction"]
+n = sum(x * x for x in d) ** 0.5
+cam.SetPosition(*[fp[i] + dist * d[i] / n for i in range(3)])
+cam.SetViewUp(*a["up"])
+view.ResetCamera()
+simple.Render(view)
+simple.SaveScreenshot(a["png"], view, ImageResolution=a["size"], TransparentBackground=0)
+print("ok")
+'''
+
+
+def _split_grids(xdmf, tmp):
+    """One XDMF file per grid of `xdmf` (blocks, interfaces), its HDF5
+    references made absolute: ParaView's readers give the two grids as
+    unnamed pieces of one data set, which no filter selects by name."""
+    import xml.etree.ElementTree as ET
+    folder = os.path.dirname(os.path.abspath(xdmf))
+    tree = ET.parse(xdmf)
+    domain = tree.getroot().find("Domain")
+    out = {}
+    for grid in domain.findall("Grid"):
+        for item in grid.iter("DataItem"):
+            if item.get("Format") == "HDF" and not os.path.isabs(item.text.strip()):
+                item.text = os.path.join(folder, item.text.strip())
+        root = ET.Element("Xdmf", Version="3.0")
+        ET.SubElement(root, "Domain").append(grid)
+        path = os.path.join(tmp, grid.get("Name") + ".xdmf")
+        ET.ElementTree(root).write(path)
+        out[grid.get("Name")] = path
+    if "blocks" not in out or "interfaces" not in out:
+        raise RuntimeError(f"{xdmf}: no 'blocks' and 'interfaces' grids (a pushover's temporal collection is not drawn in 3D yet)")
+    return out
+
+
+def pvpython_command():
+    pv = os.environ.get("BW_PVPYTHON") or shutil.which("pvpython")
+    if not pv:
+        raise RuntimeError("pictures of a 3D result need ParaView's pvpython (Debian: apt-get install python3-paraview xvfb)")
+    cmd = [pv, "--force-offscreen-rendering"]
+    if not os.environ.get("DISPLAY"):
+        xvfb = os.environ.get("BW_XVFB_RUN") or shutil.which("xvfb-run")
+        if not xvfb:
+            raise RuntimeError("pvpython needs a display: run with DISPLAY set, or install xvfb (xvfb-run)")
+        cmd = [xvfb, "-a", "-s", "-screen 0 1600x1200x24", *cmd]
+    return cmd
+
+
+def render3d(h5path, png, view="iso", scale=None, size=(1600, 1000), opacity=1.0, res=None):
+    """Draw the 3D result `h5path` into `png`; returns the amplification used."""
+    stem = os.path.splitext(h5path)[0]
+    xdmf = stem + ".xdmf"
+    if not os.path.exists(xdmf):
+        raise RuntimeError(f"{xdmf}: the 3D pictures are drawn from the XDMF file beside the result; run with output.xdmf: true")
+    if view not in VIEWS:
+        raise ValueError(f"--view must be one of {', '.join(VIEWS)}, got {view!r}")
+    if scale is None and res is not None:
+        import numpy as np
+        size_m = float(np.ptp(res.vertices, axis=0).max())
+        umax = max(float(np.max(np.linalg.norm(res.vertex_displacement(b), axis=1))) for b in range(res.nblocks))
+        scale = 0.05 * size_m / umax if umax > 0 else 1.0
+    direction, up = VIEWS[view]
+    with tempfile.TemporaryDirectory() as tmp:
+        script, args = os.path.join(tmp, "draw.py"), os.path.join(tmp, "args.json")
+        grids = _split_grids(xdmf, tmp)
+        with open(script, "w") as f:
+            f.write(_SCRIPT)
+        with open(args, "w") as f:
+            json.dump(dict(blocks=grids["blocks"], interfaces=grids["interfaces"], png=os.path.abspath(png),
+                           scale=float(scale or 1.0), size=list(size), direction=direction, up=up, opacity=opacity), f)
+        p = subprocess.run([*pvpython_command(), script, args], capture_output=True, text=True, timeout=600)
+        if p.returncode != 0 or not os.path.exists(png):
+            raise RuntimeError(f"pvpython failed ({p.returncode}): {p.stderr.strip()[-1500:]}")
+    return scale
