@@ -10,13 +10,15 @@ vertex displacement field) is the file a user opens in ParaView anyway, so
 the picture is what ParaView shows and is tested with ParaView's readers
 (tests/dim3/check_xdmf.py); Debian ships it (python3-paraview), where
 PyVista would be one more pip package with its own VTK. Debian's pvpython
-renders through X: without a display it runs under xvfb-run."""
+renders through X: without a display it runs on an Xvfb of its own
+(blockwall.display)."""
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
+
+from .display import run_with_display
 
 VIEWS = {  # camera direction (from the focal point to the camera) and up
     "iso": ([1.0, 0.8, 1.6], [0, 1, 0]),
@@ -101,13 +103,7 @@ def pvpython_command():
     pv = os.environ.get("BW_PVPYTHON") or shutil.which("pvpython")
     if not pv:
         raise RuntimeError("pictures of a 3D result need ParaView's pvpython (Debian: apt-get install python3-paraview xvfb)")
-    cmd = [pv, "--force-offscreen-rendering"]
-    if not os.environ.get("DISPLAY"):
-        xvfb = os.environ.get("BW_XVFB_RUN") or shutil.which("xvfb-run")
-        if not xvfb:
-            raise RuntimeError("pvpython needs a display: run with DISPLAY set, or install xvfb (xvfb-run)")
-        cmd = [xvfb, "-a", "-s", "-screen 0 1600x1200x24", *cmd]
-    return cmd
+    return [pv, "--force-offscreen-rendering"]
 
 
 def render3d(h5path, png, view="iso", scale=None, size=(1600, 1000), opacity=1.0, res=None):
@@ -132,7 +128,7 @@ def render3d(h5path, png, view="iso", scale=None, size=(1600, 1000), opacity=1.0
         with open(args, "w") as f:
             json.dump(dict(blocks=grids["blocks"], interfaces=grids["interfaces"], png=os.path.abspath(png),
                            scale=float(scale or 1.0), size=list(size), direction=direction, up=up, opacity=opacity), f)
-        p = subprocess.run([*pvpython_command(), script, args], capture_output=True, text=True, timeout=600)
+        p = run_with_display([*pvpython_command(), script, args])
         if p.returncode != 0 or not os.path.exists(png):
             raise RuntimeError(f"pvpython failed ({p.returncode}): {p.stderr.strip()[-1500:]}")
     return scale

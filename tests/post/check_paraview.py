@@ -17,7 +17,8 @@ Two halves in one file, because Debian's pvpython runs its own Python
 
 Reading needs no display, but rendering does: Debian's ParaView 5.11 is
 built for X, and pvpython without one (even --force-offscreen-rendering)
-dies in SaveScreenshot; hence an Xvfb, started here and waited for.
+dies in SaveScreenshot; hence an Xvfb, started and waited for by
+blockwall.display (python/blockwall/display.py).
 
 What ParaView must give, with every reader it has for XDMF (the one
 OpenDataFile picks, the legacy XDMFReader, Xdmf3ReaderS, Xdmf3ReaderT):
@@ -38,8 +39,6 @@ so times are not 0, 1, 2, ...), linear (the paper's two blocks: rotation
 and translation, a non-temporal file)."""
 import json
 import os
-import socket
-import subprocess
 import sys
 import tempfile
 import time
@@ -194,44 +193,6 @@ def inside(ref_path):
 
 # ------------------------------------------------------------------ the driver (python3, h5py)
 
-class XServer:
-    """An Xvfb of our own (24-bit screen), started on a free display and
-    waited for until it accepts connections: with the CPUs busy, xvfb-run let
-    pvpython in before its server listened ("bad X server connection",
-    SIGABRT, most first tries with two walls running beside it)."""
-
-    def __init__(self, xvfb_run):
-        self.exe = os.path.join(os.path.dirname(os.path.realpath(xvfb_run)), "Xvfb")
-        self.proc, self.display = None, None
-
-    def __enter__(self):
-        for n in range(140, 400):
-            if os.path.exists(f"/tmp/.X{n}-lock") or os.path.exists(f"/tmp/.X11-unix/X{n}"):
-                continue
-            proc = subprocess.Popen([self.exe, f":{n}", "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
-                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            t0 = time.monotonic()
-            while proc.poll() is None and time.monotonic() - t0 < 60:
-                try:
-                    with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as c:
-                        c.connect(f"/tmp/.X11-unix/X{n}")
-                    self.proc, self.display = proc, f":{n}"
-                    return self
-                except OSError:
-                    time.sleep(0.05)
-            proc.kill()
-            proc.wait()
-        raise RuntimeError("no display for Xvfb could be started")
-
-    def __exit__(self, *exc):
-        self.proc.terminate()
-        try:
-            self.proc.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-        return False
-
-
 def driver(mode):
     import xml.etree.ElementTree as ET
 
@@ -241,9 +202,11 @@ def driver(mode):
     here = os.path.dirname(os.path.abspath(__file__))
     sys.path.insert(0, os.path.join(here, "..", "common"))
     from bwrun import Failure, expect, run  # noqa: E402
+    sys.path.insert(0, os.path.join(here, "..", "..", "python"))
+    from blockwall.display import run_with_display  # noqa: E402
     from matplotlib.image import imread  # noqa: E402
 
-    pvpython, xvfb = os.environ.get("BW_PVPYTHON", "pvpython"), os.environ.get("BW_XVFB_RUN", "xvfb-run")
+    pvpython = os.environ.get("BW_PVPYTHON", "pvpython")
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "result.h5")
         if mode == "pushover":
@@ -301,16 +264,7 @@ def driver(mode):
             json.dump(ref, f)
         cmd = [pvpython, os.path.abspath(__file__), "--inside", ref_path]
         t0 = time.monotonic()
-        for attempt in range(6):
-            with XServer(xvfb) as x:
-                p = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=dict(os.environ, DISPLAY=x.display))
-            # Xlib's XOpenDisplay, not ParaView's reading, failed: with the
-            # CPUs busy it now and then refuses a server that listens (1 in 6
-            # here with two walls running beside it); another server is tried
-            # and the tries are reported
-            if p.returncode == 0 or "bad X server connection" not in p.stdout + p.stderr:
-                break
-            print(f"X: pvpython could not open the display (try {attempt + 1}); again with a new server")
+        p = run_with_display(cmd)
         seconds = time.monotonic() - t0
         print(p.stdout, end="")
         expect(p.returncode == 0, f"{' '.join(cmd)} exited {p.returncode}:\n{p.stdout}\n{p.stderr[-3000:]}")
