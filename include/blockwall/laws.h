@@ -18,10 +18,20 @@
  * stiffnesses, ft0^2/GfI < kn and c0^2/GfII < kt; past them (a snap-back within one
  * portion) BW_LAW_NOT_CONVERGED may come back.
  *
- * Arguments: n portions of one interface share par[BW_LAW_NPAR]. Arrays are
- * interleaved per portion: jump[2n] and stress[2n] as (shear, normal) pairs,
- * state_in[4n] and state_out[4n] as BW_LAW_STATE_* quadruples, tangent[4n] as the
- * row-major 2x2 (drt/ddt, drt/ddn, drn/ddt, drn/ddn), mode[n] a BwLawMode.
+ * Three dimensions (ns = 3): r = (rt, rn, rb), tau = (rt, rb), C = diag(kt, kn, kt);
+ * the Coulomb surface is the circular cone |tau| + rn tanphi <= c(k2), its flow
+ * (tau/|tau|, tanpsi), k2 the accumulated length of plastic slip. Every surface and
+ * flow is radial in tau and C isotropic on it, so the return keeps the trial tau's
+ * direction e and is the 2D return above in the meridian plane (|tau|, rn): apex and
+ * corners included, exactly. Consistent 3x3 tangent with the circle's shrinking
+ * kt (|tau|/|tau_tr|) (I - e e^T) on tau (model.md, "Three dimensions").
+ *
+ * Arguments: ns stress components per portion (2 in 2D, 3 in 3D); n portions of one
+ * interface share par[BW_LAW_NPAR]. Arrays are interleaved per portion: jump[ns n]
+ * and stress[ns n] in the order (shear t, normal[, shear b]), state_in[(ns+2) n] and
+ * state_out[(ns+2) n] as BW_LAW_NSTATE_OF(ns) entries BW_LAW_STATE_*, tangent[ns ns n] as
+ * the row-major ns x ns dr/dj (2D: drt/ddt, drt/ddn, drn/ddt, drn/ddn), mode[n] a
+ * BwLawMode.
  * On a non-zero status the outputs are undefined (portions before the failing one are
  * written). The C caller validates user input and names the key; the status is a last
  * safety net. */
@@ -50,8 +60,12 @@ enum {
   BW_LAW_STATE_OPENING, /* plastic opening [m] */
   BW_LAW_STATE_K1,      /* accumulated plastic opening of the cut-off, >= 0 [m] */
   BW_LAW_STATE_K2,      /* accumulated plastic slip magnitude of the cone, >= 0 [m] */
-  BW_LAW_NSTATE
+  BW_LAW_NSTATE,        /* entries of a 2D portion's state */
+  BW_LAW_STATE_SLIP_B = BW_LAW_NSTATE, /* 3D: plastic slip along b [m], last */
+  BW_LAW_NSTATE_MAX     /* entries of a 3D portion's state */
 };
+/* Entries of a portion's state with ns stress components. */
+#define BW_LAW_NSTATE_OF(ns) ((ns) + 2)
 
 /* Which surfaces the returned stress lies on. */
 typedef enum {
@@ -68,16 +82,18 @@ typedef enum {
                                GfI or GfII not finite, or ft/GfI, c/GfII not finite */
   BW_LAW_NOT_CONVERGED = 3, /* local Newton did not converge (or no admissible active set) */
   BW_LAW_BAD_JUMP      = 4, /* a jump component not finite */
-  BW_LAW_BAD_STATE     = 5  /* a state component not finite, or k1, k2 < 0 */
+  BW_LAW_BAD_STATE     = 5, /* a state component not finite, or k1, k2 < 0 */
+  BW_LAW_BAD_SIZE      = 6  /* ns is neither 2 nor 3 */
 } BwLawStatus;
 
 /* Linear joint: stress = C (j - jpl) with jpl from state_in, tangent C, state_out =
  * state_in, mode 0. Only kt and kn of par are read (and checked). */
-void bw_law_elastic(int n, const double par[], const double state_in[], const double jump[], double stress[],
+void bw_law_elastic(int ns, int n, const double par[], const double state_in[], const double jump[], double stress[],
                     double tangent[], double state_out[], signed char mode[], int *status);
 /* Tension cut-off and Coulomb friction with optional exponential softening: the return
- * mapping above, the consistent tangent, the updated state and the mode. */
-void bw_law_coulomb(int n, const double par[], const double state_in[], const double jump[], double stress[],
+ * mapping above (in 3D on the cone's meridian plane), the consistent tangent, the
+ * updated state and the mode. */
+void bw_law_coulomb(int ns, int n, const double par[], const double state_in[], const double jump[], double stress[],
                     double tangent[], double state_out[], signed char mode[], int *status);
 
 #ifdef __cplusplus

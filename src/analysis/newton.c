@@ -50,14 +50,14 @@ PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const Petsc
   PetscCall(VecDuplicate(nw->x, &nw->Ft));
   PetscCall(VecDuplicate(nw->x, &nw->dx));
   PetscCall(VecDuplicate(nw->x, &nw->b0));
-  PetscCall(PetscMalloc2(3 * nw->nb + 1, &nw->load0, 3 * nw->nb + 1, &nw->pattern));
-  PetscCall(PetscArraycpy(nw->load0, load0, 3 * nw->nb));
-  if (pattern) PetscCall(PetscArraycpy(nw->pattern, pattern, 3 * nw->nb));
-  else PetscCall(PetscArrayzero(nw->pattern, 3 * nw->nb));
+  PetscCall(PetscMalloc2(p->model->nd * nw->nb + 1, &nw->load0, p->model->nd * nw->nb + 1, &nw->pattern));
+  PetscCall(PetscArraycpy(nw->load0, load0, p->model->nd * nw->nb));
+  if (pattern) PetscCall(PetscArraycpy(nw->pattern, pattern, p->model->nd * nw->nb));
+  else PetscCall(PetscArrayzero(nw->pattern, p->model->nd * nw->nb));
   PetscCall(BwMixedFillRHS(p->mixed, load0, nw->b0));
   /* bP: the pattern's loads alone (FillRHS lifts the prescribed values too) */
   PetscCall(VecDuplicate(nw->x, &nw->bP));
-  PetscCall(PetscCalloc1(3 * nw->nb + 1, &zero));
+  PetscCall(PetscCalloc1(p->model->nd * nw->nb + 1, &zero));
   PetscCall(BwMixedFillRHS(p->mixed, nw->pattern, nw->bP));
   PetscCall(BwMixedFillRHS(p->mixed, zero, nw->dx));
   PetscCall(VecAXPY(nw->bP, -1.0, nw->dx));
@@ -510,7 +510,7 @@ PetscErrorCode BwNewtonGetSolution(BwNewton nw, Vec *x, BwJointField *field)
 PetscErrorCode BwNewtonGetLoads(BwNewton nw, PetscReal mu, PetscReal lambda, PetscReal load[])
 {
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < 3 * nw->nb; i++) load[i] = mu * nw->load0[i] + lambda * nw->pattern[i];
+  for (PetscInt i = 0; i < nw->p->model->nd * nw->nb; i++) load[i] = mu * nw->load0[i] + lambda * nw->pattern[i];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -4,12 +4,16 @@
  * Newton fails (interface.md, "Pushover"):
  *
  *   analysis.pushover.loads        the pattern P: set -> [F1, F2, M3]
- *   analysis.pushover.body_force   [a1, a2]: adds (a1, a2) times every block's
- *                                  weight to P (needs gravity.density > 0)
+ *                                  (3D: [F1, F2, F3, M1, M2, M3])
+ *   analysis.pushover.body_force   [a1, a2] (3D: [a1, a2, a3]): adds a times
+ *                                  every block's weight to P (needs
+ *                                  gravity.density > 0); along X3 with
+ *                                  gravity held, the tilting table
  *   analysis.pushover.control      load: lambda prescribed per step;
  *                                  displacement: the monitor dof prescribed,
  *                                  lambda an unknown (newton.h)
  *   analysis.pushover.monitor      {set, dof}: that dof of the set's first block
+ *                                  (u1, u2, w; 3D: u1, u2, u3, w1, w2, w3)
  *   analysis.pushover.target       final lambda (load) or monitor value
  *   analysis.pushover.steps        equal increments to the target
  *   analysis.pushover.min_step     smallest cut-back, a fraction of one increment
@@ -35,7 +39,7 @@ static const char *const BwControls[] = {"load", "displacement", "dissipation"};
 
 typedef struct {
   BwControl  control;
-  PetscReal *pattern; /* 3 per block */
+  PetscReal *pattern; /* nd per block */
   PetscInt   monitor_block, monitor_dof;
   char       monitor_set[256];
   PetscReal  target, min_step, tolerance;
@@ -51,8 +55,9 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   PetscReal  *bf = NULL;
   PetscInt    nbf = 0, control = 0, dof = -1, set = -1;
   PetscBool   given, has_target, has_monitor;
-  char        steps[64] = "last", dofname[16] = "";
-  static const char *const dofs[] = {"u1", "u2", "w"};
+  char        steps[64] = "last", dofname[16] = "", doflist[64] = "";
+  const PetscInt            nd = p->model->nd, ndim = g->dim;
+  const char *const        *dofs = BwModelDofNames(p->model);
 
   PetscFunctionBeginUser;
   PetscCall(BwAnalysisSolverForJoints(p));
@@ -60,22 +65,25 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   PetscCall(BwSceneHelpSection(p->scene, "Pushover (scene key analysis.pushover.*)"));
   PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover", "loads, body_force, control, monitor, target, steps, min_step, tolerance, max_iterations, dissipation_step"));
   /* the pattern */
-  PetscCall(PetscCalloc1(3 * g->nblocks + 1, &po->pattern));
+  for (PetscInt c = 0; c < nd; c++) {
+    PetscCall(PetscStrlcat(doflist, c ? (c == nd - 1 ? " or " : ", ") : "", sizeof(doflist)));
+    PetscCall(PetscStrlcat(doflist, dofs[c], sizeof(doflist)));
+  }
+  PetscCall(PetscCalloc1(nd * g->nblocks + 1, &po->pattern));
   PetscCall(BwModelReadLoads(p->model, p->scene, "analysis_pushover_", PETSC_FALSE, po->pattern));
-  PetscCall(BwSceneRealArray(p->scene, "-analysis_pushover_body_force", "a1, a2: adds lambda (a1, a2) times every block's weight to the pattern", &bf, &nbf, &given));
+  PetscCall(BwSceneRealArray(p->scene, "-analysis_pushover_body_force", ndim == 3 ? "a1, a2, a3: adds lambda (a1, a2, a3) times every block's weight to the pattern (a3 with gravity held: the tilting table)" : "a1, a2: adds lambda (a1, a2) times every block's weight to the pattern", &bf, &nbf, &given));
   if (given) {
-    if (nbf != 2) PetscCall(BwSceneError(p->scene, "-analysis_pushover_body_force", "must have 2 values a1, a2, got %" PetscInt_FMT, nbf));
+    if (nbf != ndim) PetscCall(BwSceneError(p->scene, "-analysis_pushover_body_force", "must have %" PetscInt_FMT " values %s in %" PetscInt_FMT "D, got %" PetscInt_FMT, ndim, ndim == 3 ? "a1, a2, a3" : "a1, a2", ndim, nbf));
     if (!(p->model->gravity_density > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_body_force", "needs the blocks' weight: gravity.density must be > 0"));
     for (PetscInt b = 0; b < g->nblocks; b++) {
-      PetscReal w = p->model->gravity_density * 9.81 * g->area[b] * g->depth;
-      po->pattern[3 * b] += bf[0] * w;
-      po->pattern[3 * b + 1] += bf[1] * w;
+      PetscReal w = p->model->gravity_density * 9.81 * (ndim == 3 ? g->volume[b] : g->area[b] * g->depth);
+      for (PetscInt c = 0; c < ndim; c++) po->pattern[nd * b + c] += bf[c] * w;
     }
   }
   PetscCall(PetscFree(bf));
   {
     PetscReal norm = 0;
-    for (PetscInt i = 0; i < 3 * g->nblocks; i++) norm = PetscMax(norm, PetscAbsReal(po->pattern[i]));
+    for (PetscInt i = 0; i < nd * g->nblocks; i++) norm = PetscMax(norm, PetscAbsReal(po->pattern[i]));
     if (!(norm > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_loads", "the load pattern is zero: give analysis.pushover.loads or analysis.pushover.body_force"));
   }
   /* control and monitor */
@@ -87,7 +95,7 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   if (given && po->control != BW_CONTROL_DISSIPATION) PetscCall(BwSceneError(p->scene, "-analysis_pushover_dissipation_step", "needs analysis.pushover.control: dissipation (the control is %s)", BwControls[po->control]));
   PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover_monitor", "set, dof"));
   PetscCall(BwSceneString(p->scene, "-analysis_pushover_monitor_set", "Block set whose first block carries the monitor dof", po->monitor_set, sizeof(po->monitor_set), &has_monitor));
-  PetscCall(BwSceneString(p->scene, "-analysis_pushover_monitor_dof", "The monitor dof: u1, u2 or w", dofname, sizeof(dofname), &given));
+  PetscCall(BwSceneString(p->scene, "-analysis_pushover_monitor_dof", "The monitor dof: u1, u2 or w (3D: u1, u2, u3, w1, w2 or w3)", dofname, sizeof(dofname), &given));
   if (has_monitor) {
     char names[1024];
     PetscCall(BwGeometryFindSet(g, po->monitor_set, &set));
@@ -95,30 +103,30 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
     if (set < 0) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_set", "'%s' does not name a block set (sets: %s)", po->monitor_set, names));
     if (g->setoffsets[set + 1] == g->setoffsets[set]) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_set", "set '%s' is empty", po->monitor_set));
     po->monitor_block = g->setblocks[g->setoffsets[set]];
-    if (!given) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "needs dof: u1, u2 or w"));
+    if (!given) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "needs dof: %s", doflist));
   } else if (given) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "needs set: the block set whose first block is followed"));
   if (given) {
-    for (PetscInt c = 0; c < 3; c++) {
+    for (PetscInt c = 0; c < nd; c++) {
       PetscBool eq;
       PetscCall(PetscStrcasecmp(dofname, dofs[c], &eq));
       if (eq) dof = c;
     }
-    if (dof < 0) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_dof", "must be u1, u2 or w, got '%s'", dofname));
+    if (dof < 0) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_dof", "must be %s in %" PetscInt_FMT "D, got '%s'", doflist, ndim, dofname));
     po->monitor_dof = dof;
   }
   if (!has_monitor) {
     /* load control may do without: the largest component of the pattern */
     PetscReal best = -1;
-    if (po->control != BW_CONTROL_LOAD) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "is required with control: %s (monitor: {set: SET, dof: u1|u2|w})", BwControls[po->control]));
-    for (PetscInt i = 0; i < 3 * g->nblocks; i++)
+    if (po->control != BW_CONTROL_LOAD) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "is required with control: %s (monitor: {set: SET, dof: %s})", BwControls[po->control], doflist));
+    for (PetscInt i = 0; i < nd * g->nblocks; i++)
       if (PetscAbsReal(po->pattern[i]) > best && !p->model->prescribed[i]) {
         best              = PetscAbsReal(po->pattern[i]);
-        po->monitor_block = i / 3;
-        po->monitor_dof   = i % 3;
+        po->monitor_block = i / nd;
+        po->monitor_dof   = i % nd;
       }
     PetscCall(PetscSNPrintf(po->monitor_set, sizeof(po->monitor_set), "block %" PetscInt_FMT, po->monitor_block));
   }
-  if (p->model->prescribed[3 * po->monitor_block + po->monitor_dof])
+  if (p->model->prescribed[nd * po->monitor_block + po->monitor_dof])
     PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "dof %s of block %" PetscInt_FMT " (set %s) is prescribed by the supports; the monitor must be free", dofs[po->monitor_dof], po->monitor_block, po->monitor_set));
   /* the increments */
   po->target = 0;
@@ -231,7 +239,7 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
   const char *reason;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(3 * p->geom->nblocks + 1, &load));
+  PetscCall(PetscMalloc1(p->model->nd * p->geom->nblocks + 1, &load));
   /* step 0: the constant loads */
   PetscCall(BwNewtonRamp(nw, po->min_step, &substeps, &ok));
   if (!ok) {
@@ -360,7 +368,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscFunctionBeginUser;
   PetscCall(BwSceneGetText(p->scene, &text));
   PetscCall(BwProblemPrintHead(p));
-  PetscCall(PetscPrintf(p->comm, "  pushover: %s control, target %g, %" PetscInt_FMT " steps, monitor %s of %s (block %" PetscInt_FMT ")\n", BwControls[po->control], (double)po->target, po->steps, po->monitor_dof == 0 ? "u1" : po->monitor_dof == 1 ? "u2" : "w", po->monitor_set, po->monitor_block));
+  PetscCall(PetscPrintf(p->comm, "  pushover: %s control, target %g, %" PetscInt_FMT " steps, monitor %s of %s (block %" PetscInt_FMT ")\n", BwControls[po->control], (double)po->target, po->steps, BwModelDofNames(p->model)[po->monitor_dof], po->monitor_set, po->monitor_block));
   PetscCall(BwNewtonCreate(p, p->model->load, po->pattern, &nw));
   PetscCall(BwNewtonSetTolerances(nw, po->tolerance, po->max_iterations));
   PetscCall(BwNewtonSetMonitor(nw, po->monitor_block, po->monitor_dof, "analysis.pushover.monitor"));
@@ -386,7 +394,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
 
   /* the final state: results, self-check, the file */
   PetscCall(BwLogBegin(p->log, BW_PHASE_RECOVER));
-  PetscCall(PetscMalloc1(3 * p->geom->nblocks + 1, &load));
+  PetscCall(PetscMalloc1(p->model->nd * p->geom->nblocks + 1, &load));
   PetscCall(BwPushoverResults(p, nw, lambda, load, &res, &data));
   PetscCall(BwNewtonGetSolution(nw, &x, NULL));
   PetscCall(VecDuplicate(x, &b));
@@ -424,14 +432,13 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   /* what a capacity curve's axes are labelled with: the monitor by name,
    * the load in the pattern's units (|sum of the pattern's forces| in N) */
   PetscCall(BwReportString(report, "monitor_set", po->monitor_set));
-  PetscCall(BwReportString(report, "monitor_dof", po->monitor_dof == 0 ? "u1" : po->monitor_dof == 1 ? "u2" : "w"));
+  PetscCall(BwReportString(report, "monitor_dof", BwModelDofNames(p->model)[po->monitor_dof]));
   {
-    PetscReal f1 = 0, f2 = 0;
-    for (PetscInt b = 0; b < p->geom->nblocks; b++) {
-      f1 += po->pattern[3 * b];
-      f2 += po->pattern[3 * b + 1];
-    }
-    PetscCall(BwReportReal(report, "pattern_resultant", PetscSqrtReal(f1 * f1 + f2 * f2)));
+    /* |the sum of the pattern's forces| (the first dim components per block) */
+    PetscReal f[3] = {0, 0, 0};
+    for (PetscInt b = 0; b < p->geom->nblocks; b++)
+      for (PetscInt c = 0; c < p->geom->dim; c++) f[c] += po->pattern[p->model->nd * b + c];
+    PetscCall(BwReportReal(report, "pattern_resultant", PetscSqrtReal(f[0] * f[0] + f[1] * f[1] + f[2] * f[2])));
   }
   PetscCall(BwReportInt(report, "newton_iterations", its));
   PetscCall(BwReportInt(report, "linear_solves", solves));

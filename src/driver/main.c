@@ -89,14 +89,6 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   PetscCall(BwLogBegin(p->log, BW_PHASE_GENERATE));
   if (has_scene) PetscCall(BwGeometrySetUp(p->geom, p->scene, p->model->law[BW_JOINT_BED]->thickness));
   PetscCall(BwModelSetUp(p->model, p->geom, p->scene));
-  if (p->geom->dim == 3) {
-    /* what 3D does not have yet (issue "Out-of-plane collapse"): refused
-     * before any work, by the key that asks for it */
-    PetscBool pushover;
-    PetscCall(PetscStrcmp(run->analysis->type, "pushover", &pushover));
-    if (pushover) PetscCall(BwSceneError(p->scene, "-analysis_type", "pushover is not available in 3D yet: 3D scenes run analysis.type: linear (with load cases)"));
-    if (p->model->nonlinear) PetscCall(BwSceneError(p->scene, "-joints_strength", "nonlinear joints are not available in 3D yet: 3D joints are linear elastic (no joints.strength)"));
-  }
   PetscCall(BwAnalysisSetFromOptions(run->analysis, p));
   if (!progress_set) run->log.verbose = p->geom->nblocks >= 10000 ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(BwLogEnd(p->log, BW_PHASE_GENERATE));

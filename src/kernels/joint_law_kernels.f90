@@ -54,7 +54,8 @@
 !
 ! Pure subroutines, data in and data out, status last (BW_LAW_* in
 ! include/blockwall/laws.h); none stops or prints. Arrays are interleaved per portion:
-! the Fortran array jump(2, n) is the C array double jump[n][2].
+! the Fortran array jump(ns, n) is the C array double jump[n][ns]. The same kernels
+! serve 2D (ns = 2) and 3D (ns = 3: the return in the cone's meridian plane, below).
 module bw_joint_law_kernels
   use, intrinsic :: iso_c_binding, only: c_double, c_int, c_signed_char
   implicit none
@@ -62,7 +63,8 @@ module bw_joint_law_kernels
   public :: bw_law_elastic, bw_law_coulomb
 
   integer(c_int), parameter, public :: BW_LAW_OK = 0, BW_LAW_BAD_STIFFNESS = 1, &
-       BW_LAW_BAD_STRENGTH = 2, BW_LAW_NOT_CONVERGED = 3, BW_LAW_BAD_JUMP = 4, BW_LAW_BAD_STATE = 5
+       BW_LAW_BAD_STRENGTH = 2, BW_LAW_NOT_CONVERGED = 3, BW_LAW_BAD_JUMP = 4, BW_LAW_BAD_STATE = 5, &
+       BW_LAW_BAD_SIZE = 6
 
   ! Positions in par (BW_LAW_PAR_* + 1); a portion's state is (slip, opening, k1, k2).
   integer, parameter :: NPAR = 8, NSTATE = 4
@@ -533,45 +535,130 @@ contains
     mode = 0_c_signed_char
   end subroutine coulomb_portion
 
+  ! Three stress components (rt, rn, rb), tau = (rt, rb), shear isotropic (kt along t
+  ! and b): the circular cone |tau| + rn tanphi <= c with the flow tau/|tau| (model.md,
+  ! "Three dimensions"). Every surface depends on tau through |tau| only and every flow
+  ! is radial in tau, while C is kt I on tau: the returned tau keeps the direction e of
+  ! the trial tau, and the return is the 2D one in the meridian plane (|tau|, rn), with
+  ! the trial (s, rn_tr), s = |tau_tr| >= 0. So the cone's apex and its corner with the
+  ! cut-off are the 2D kernel's, not approximations. With rt' the returned |tau|:
+  !   tau = rt' e,   jpl_tau += (2D plastic slip) e,
+  !   d tau/d j_tau = T11 e e^T + kt (rt'/s) (I - e e^T),   d tau/d jn = T12 e,
+  !   d rn/d j_tau = T21 e^T,   d rn/d jn = T22
+  ! (T the 2D consistent tangent with respect to (s/kt, jn); the second term is the
+  ! shrinking of the circle, de/d j_tau = kt (I - e e^T)/s). At s = 0 the direction is
+  ! undefined and rt'/s is replaced by its limit T11/kt. State: (slip_t, opening, k1,
+  ! k2, slip_b): the 2D state with the b slip last.
+  pure subroutine coulomb_portion_3d(law, state, jump, r, t, state_new, mode, status)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: state(NSTATE + 1), jump(3)
+    real(c_double), intent(out) :: r(3), t(3, 3), state_new(NSTATE + 1)
+    integer(c_signed_char), intent(out) :: mode
+    integer(c_int), intent(out) :: status
+    real(c_double) :: tau(2), s, e(2), state2(NSTATE), state2_new(NSTATE), r2(2), t2(2, 2), ratio, pe(2, 2)
+    tau = law%kt * [jump(1) - state(1), jump(3) - state(NSTATE + 1)]
+    s = norm2(tau)
+    e = [ONE, ZERO]
+    if (s > 0) e = tau / s
+    state2 = [ZERO, state(2), state(3), state(4)]
+    call coulomb_portion(law, state2, [s / law%kt, jump(2)], r2, t2, state2_new, mode, status)
+    if (status /= BW_LAW_OK) then
+      r = [tau(1), r2(2), tau(2)]
+      t = ZERO
+      state_new = state
+      return
+    end if
+    r = [r2(1) * e(1), r2(2), r2(1) * e(2)]
+    ! the plastic slip of this step along e: exactly zero when nothing flows
+    state_new = [state(1) + state2_new(1) * e(1), state2_new(2), state2_new(3), state2_new(4), &
+         state(NSTATE + 1) + state2_new(1) * e(2)]
+    ratio = t2(1, 1) / law%kt
+    if (s > 0) ratio = r2(1) / s
+    pe = spread(e, 2, 2) * spread(e, 1, 2)
+    pe = t2(1, 1) * pe + law%kt * ratio * (reshape([ONE, ZERO, ZERO, ONE], [2, 2]) - pe)
+    t(1, :) = [pe(1, 1), t2(1, 2) * e(1), pe(1, 2)]
+    t(2, :) = [t2(2, 1) * e(1), t2(2, 2), t2(2, 1) * e(2)]
+    t(3, :) = [pe(2, 1), t2(1, 2) * e(2), pe(2, 2)]
+  end subroutine coulomb_portion_3d
+
+  ! ns stress components (2: rt, rn; 3: rt, rn, rb) and ns + 2 state entries.
+  pure function check_size(ns) result(status)
+    integer(c_int), intent(in) :: ns
+    integer(c_int) :: status
+    status = BW_LAW_OK
+    if (ns /= 2 .and. ns /= 3) status = BW_LAW_BAD_SIZE
+  end function check_size
+
+  ! The jump's and the state's finiteness, k1, k2 >= 0; the b slip of 3D is checked
+  ! with the rest.
+  pure function check_portion_ns(ns, state, jump) result(status)
+    integer(c_int), intent(in) :: ns
+    real(c_double), intent(in) :: state(:), jump(:)
+    integer(c_int) :: status
+    status = check_portion(state(1:NSTATE), jump(1:2))
+    if (status /= BW_LAW_OK) return
+    if (ns == 3) then
+      if (.not. finite(jump(3))) status = BW_LAW_BAD_JUMP
+      if (status == BW_LAW_OK .and. .not. finite(state(NSTATE + 1))) status = BW_LAW_BAD_STATE
+    end if
+  end function check_portion_ns
+
   !> Linear joint: r = C (j - jpl) with jpl from state_in, tangent C, state copied.
-  pure subroutine bw_law_elastic(n, par, state_in, jump, stress, tangent, state_out, mode, status) &
+  pure subroutine bw_law_elastic(ns, n, par, state_in, jump, stress, tangent, state_out, mode, status) &
        bind(C, name="bw_law_elastic")
-    integer(c_int), value, intent(in) :: n
-    real(c_double), intent(in) :: par(NPAR), state_in(NSTATE, n), jump(2, n)
-    real(c_double), intent(out) :: stress(2, n), tangent(4, n), state_out(NSTATE, n)
+    integer(c_int), value, intent(in) :: ns, n
+    real(c_double), intent(in) :: par(NPAR), state_in(ns + 2, n), jump(ns, n)
+    real(c_double), intent(out) :: stress(ns, n), tangent(ns * ns, n), state_out(ns + 2, n)
     integer(c_signed_char), intent(out) :: mode(n)
     integer(c_int), intent(out) :: status
-    integer(c_int) :: p
+    real(c_double) :: c(3), jpl(3)
+    integer(c_int) :: p, a
+    status = check_size(ns)
+    if (status /= BW_LAW_OK) return
     status = check_stiffness(par)
     if (status /= BW_LAW_OK) return
+    c = [par(IKT), par(IKN), par(IKT)]
     do p = 1, n
-      status = check_portion(state_in(:, p), jump(:, p))
+      status = check_portion_ns(ns, state_in(:, p), jump(:, p))
       if (status /= BW_LAW_OK) return
-      stress(:, p) = [par(IKT) * (jump(1, p) - state_in(1, p)), par(IKN) * (jump(2, p) - state_in(2, p))]
-      tangent(:, p) = [par(IKT), ZERO, ZERO, par(IKN)]
+      jpl(1:2) = state_in(1:2, p)
+      if (ns == 3) jpl(3) = state_in(NSTATE + 1, p)
+      stress(:, p) = c(1:ns) * (jump(:, p) - jpl(1:ns))
+      tangent(:, p) = ZERO
+      do a = 1, ns
+        tangent((a - 1) * ns + a, p) = c(a)
+      end do
       state_out(:, p) = state_in(:, p)
       mode(p) = 0_c_signed_char
     end do
   end subroutine bw_law_elastic
 
-  !> Tension cut-off and Coulomb friction with softening: the return mapping above.
-  pure subroutine bw_law_coulomb(n, par, state_in, jump, stress, tangent, state_out, mode, status) &
+  !> Tension cut-off and Coulomb friction with softening: the return mapping above,
+  !> in 3D on the meridian plane of the circular cone.
+  pure subroutine bw_law_coulomb(ns, n, par, state_in, jump, stress, tangent, state_out, mode, status) &
        bind(C, name="bw_law_coulomb")
-    integer(c_int), value, intent(in) :: n
-    real(c_double), intent(in) :: par(NPAR), state_in(NSTATE, n), jump(2, n)
-    real(c_double), intent(out) :: stress(2, n), tangent(4, n), state_out(NSTATE, n)
+    integer(c_int), value, intent(in) :: ns, n
+    real(c_double), intent(in) :: par(NPAR), state_in(ns + 2, n), jump(ns, n)
+    real(c_double), intent(out) :: stress(ns, n), tangent(ns * ns, n), state_out(ns + 2, n)
     integer(c_signed_char), intent(out) :: mode(n)
     integer(c_int), intent(out) :: status
     type(law_t) :: law
-    real(c_double) :: t(2, 2)
+    real(c_double) :: t(2, 2), t3(3, 3)
     integer(c_int) :: p
+    status = check_size(ns)
+    if (status /= BW_LAW_OK) return
     call make_law(par, law, status)
     if (status /= BW_LAW_OK) return
     do p = 1, n
-      status = check_portion(state_in(:, p), jump(:, p))
+      status = check_portion_ns(ns, state_in(:, p), jump(:, p))
       if (status /= BW_LAW_OK) return
-      call coulomb_portion(law, state_in(:, p), jump(:, p), stress(:, p), t, state_out(:, p), mode(p), status)
-      tangent(:, p) = [t(1, 1), t(1, 2), t(2, 1), t(2, 2)]
+      if (ns == 2) then
+        call coulomb_portion(law, state_in(:, p), jump(:, p), stress(:, p), t, state_out(:, p), mode(p), status)
+        tangent(:, p) = [t(1, 1), t(1, 2), t(2, 1), t(2, 2)]
+      else
+        call coulomb_portion_3d(law, state_in(:, p), jump(:, p), stress(:, p), t3, state_out(:, p), mode(p), status)
+        tangent(:, p) = reshape(transpose(t3), [9])
+      end if
       if (status /= BW_LAW_OK) return
     end do
   end subroutine bw_law_coulomb

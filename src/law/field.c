@@ -1,14 +1,15 @@
-/* BwJointField: see field.h. Storage per owned portion: the committed and
- * the trial state (4 each), the tangent (4), the plastic jump for output
- * (2), the mode of the last evaluation and of the last commit (1 byte
- * each). */
+/* BwJointField: see field.h. Storage per owned portion, with ns stress
+ * components (2 in 2D, 3 in 3D): the committed and the trial state (ns + 2
+ * each), the tangent (ns x ns, committed and last), the plastic jump for
+ * output (ns), the modes (1 byte each). Owned interface e's portions start
+ * at poff[e]: m each in 2D, as many as its polygon has in 3D. */
 #include "law/field.h"
 #include "util/compat.h"
 
 struct _n_BwJointField {
   MPI_Comm        comm;
   BwModel         model;
-  PetscInt        m, nown;
+  PetscInt        ns, nst, nown, *poff;
   const PetscInt *own;
   PetscReal      *committed, *trial, *tangent, *plastic, *committed_tangent;
   signed char    *mode, *committed_mode, *seen_mode, *older_mode, *flips;
@@ -17,6 +18,13 @@ struct _n_BwJointField {
   PetscInt        nfailed, failed_k;
   int             failed_status;
 };
+
+/* C = diag(kt, kn[, kt]) of interface k, ns x ns row-major. */
+static void BwJointFieldElastic(BwJointField f, PetscInt k, PetscReal c[])
+{
+  for (PetscInt a = 0; a < f->ns * f->ns; a++) c[a] = 0;
+  for (PetscInt a = 0; a < f->ns; a++) c[(f->ns + 1) * a] = a == 1 ? f->model->kn[k] : f->model->kt[k];
+}
 
 PetscErrorCode BwJointFieldCreate(BwMixed mixed, BwJointField *field)
 {
@@ -29,23 +37,24 @@ PetscErrorCode BwJointFieldCreate(BwMixed mixed, BwJointField *field)
   PetscCall(BwMixedGetModel(mixed, &f->model));
   PetscCall(BwMixedGetOwnership(mixed, &own));
   f->comm = f->model->comm;
-  f->m    = own.m;
+  f->ns   = own.ns;
+  f->nst  = BW_LAW_NSTATE_OF(own.ns);
   f->nown = own.nown_interfaces;
   f->own  = own.own_interfaces;
-  n       = f->m * f->nown;
-  PetscCall(PetscCalloc5(BW_LAW_NSTATE * n + 1, &f->committed, BW_LAW_NSTATE * n + 1, &f->trial, 4 * n + 1, &f->tangent, 2 * n + 1, &f->plastic, 4 * n + 1, &f->committed_tangent));
-  PetscCall(PetscCalloc5(n + 1, &f->mode, n + 1, &f->committed_mode, n + 1, &f->seen_mode, n + 1, &f->older_mode, n + 1, &f->flips));
-  PetscCall(PetscCalloc1(4 * n + 1, &f->newton_tangent));
-  /* before any evaluation: the elastic tangents */
-  for (PetscInt e = 0; e < f->nown; e++) {
-    PetscInt k = f->own[e];
-    for (PetscInt p = 0; p < f->m; p++) {
-      PetscReal *c = f->tangent + 4 * (f->m * e + p);
-      c[0]         = f->model->kt[k];
-      c[3]         = f->model->kn[k];
-    }
+  PetscCall(PetscMalloc1(f->nown + 1, &f->poff));
+  f->poff[0] = 0;
+  for (PetscInt e = 0; e < f->nown; e++) f->poff[e + 1] = f->poff[e] + BwPortionsCount(own.portions, f->own[e]);
+  n = f->poff[f->nown];
+  {
+    const PetscInt ns = f->ns, nst = f->nst;
+    PetscCall(PetscCalloc5(nst * n + 1, &f->committed, nst * n + 1, &f->trial, ns * ns * n + 1, &f->tangent, ns * n + 1, &f->plastic, ns * ns * n + 1, &f->committed_tangent));
+    PetscCall(PetscCalloc5(n + 1, &f->mode, n + 1, &f->committed_mode, n + 1, &f->seen_mode, n + 1, &f->older_mode, n + 1, &f->flips));
+    PetscCall(PetscCalloc1(ns * ns * n + 1, &f->newton_tangent));
+    /* before any evaluation: the elastic tangents */
+    for (PetscInt e = 0; e < f->nown; e++)
+      for (PetscInt p = f->poff[e]; p < f->poff[e + 1]; p++) BwJointFieldElastic(f, f->own[e], f->tangent + ns * ns * p);
+    PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, ns * ns * n));
   }
-  PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, 4 * n));
   f->failed_k   = -1;
   f->flip_limit = 2;
   *field        = f;
@@ -59,6 +68,7 @@ PetscErrorCode BwJointFieldDestroy(BwJointField *field)
   PetscCall(PetscFree5((*field)->committed, (*field)->trial, (*field)->tangent, (*field)->plastic, (*field)->committed_tangent));
   PetscCall(PetscFree5((*field)->mode, (*field)->committed_mode, (*field)->seen_mode, (*field)->older_mode, (*field)->flips));
   PetscCall(PetscFree((*field)->newton_tangent));
+  PetscCall(PetscFree((*field)->poff));
   PetscCall(PetscFree(*field));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -77,12 +87,12 @@ PetscErrorCode BwJointFieldLaw(void *ctx, PetscInt e, PetscInt k, const PetscRea
   BwJointField f = (BwJointField)ctx;
   BwJointLaw   law;
   PetscReal    par[BW_LAW_NPAR];
-  PetscInt     off = f->m * e;
+  PetscInt     off = f->poff[e], np = f->poff[e + 1] - off, ns = f->ns;
   int          status;
 
   PetscFunctionBeginUser;
   PetscCall(BwModelInterfaceLaw(f->model, k, &law, par));
-  law->kernel((int)f->m, par, f->committed + BW_LAW_NSTATE * off, jump, stress, f->tangent + 4 * off, f->trial + BW_LAW_NSTATE * off, f->mode + off, &status);
+  law->kernel((int)ns, (int)np, par, f->committed + f->nst * off, jump, stress, f->tangent + ns * ns * off, f->trial + f->nst * off, f->mode + off, &status);
   if (status != BW_LAW_OK) {
     /* a finite stand-in keeps the residual evaluable; the step fails */
     if (!f->nfailed) {
@@ -90,17 +100,15 @@ PetscErrorCode BwJointFieldLaw(void *ctx, PetscInt e, PetscInt k, const PetscRea
       f->failed_status = status;
     }
     f->nfailed++;
-    for (PetscInt p = 0; p < f->m; p++) {
-      stress[2 * p]     = par[BW_LAW_PAR_KT] * (PetscIsNormalReal(jump[2 * p]) ? jump[2 * p] : 0);
-      stress[2 * p + 1] = par[BW_LAW_PAR_KN] * (PetscIsNormalReal(jump[2 * p + 1]) ? jump[2 * p + 1] : 0);
-    }
+    for (PetscInt p = 0; p < np; p++)
+      for (PetscInt a = 0; a < ns; a++) stress[ns * p + a] = par[a == 1 ? BW_LAW_PAR_KN : BW_LAW_PAR_KT] * (PetscIsNormalReal(jump[ns * p + a]) ? jump[ns * p + a] : 0);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwJointFieldFailed(BwJointField f, PetscBool *failed, char why[], size_t len)
 {
-  static const char *const reason[] = {"", "a non-positive stiffness", "an invalid strength", "no admissible stress (its return mapping did not converge)", "a non-finite jump", "a non-finite or negative state"};
+  static const char *const reason[] = {"", "a non-positive stiffness", "an invalid strength", "no admissible stress (its return mapping did not converge)", "a non-finite jump", "a non-finite or negative state", "a wrong number of stress components"};
   PetscInt                 loc[2] = {f->nfailed, f->nfailed ? -f->failed_k : PETSC_MIN_INT}, glob[2];
 
   PetscFunctionBeginUser;
@@ -112,14 +120,14 @@ PetscErrorCode BwJointFieldFailed(BwJointField f, PetscBool *failed, char why[],
     PetscInt k = -glob[1];
     int      st = f->failed_k == k ? f->failed_status : 0, stg;
     PetscCallMPI(MPI_Allreduce(&st, &stg, 1, MPI_INT, MPI_MAX, f->comm));
-    PetscCall(PetscSNPrintf(why, len, "the joint law of interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ") found %s", k, f->model->geom->pair[2 * k], f->model->geom->pair[2 * k + 1], stg > 0 && stg < 6 ? reason[stg] : "an error"));
+    PetscCall(PetscSNPrintf(why, len, "the joint law of interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ") found %s", k, f->model->geom->pair[2 * k], f->model->geom->pair[2 * k + 1], stg > 0 && stg < 7 ? reason[stg] : "an error"));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwJointFieldGetTangents(BwJointField f, PetscBool committed, const PetscReal **tangent)
 {
-  PetscInt n = f->m * f->nown;
+  PetscInt nt = f->ns * f->ns;
 
   PetscFunctionBeginUser;
   if (committed) {
@@ -132,22 +140,17 @@ PetscErrorCode BwJointFieldGetTangents(BwJointField f, PetscBool committed, cons
    * portion enters the Newton matrix with its elastic stiffness instead (a
    * secant bound on both sides): the iteration stays a descent for it and
    * converges, linearly in that portion, quadratically elsewhere. */
-  PetscCall(PetscArraycpy(f->newton_tangent, f->tangent, 4 * n));
-  for (PetscInt i = 0; i < n; i++)
-    if (f->flips[i] >= f->flip_limit) {
-      PetscInt   k = f->own[i / f->m];
-      PetscReal *c = f->newton_tangent + 4 * i;
-      c[0]         = f->model->kt[k];
-      c[1] = c[2] = 0;
-      c[3]         = f->model->kn[k];
-    }
+  PetscCall(PetscArraycpy(f->newton_tangent, f->tangent, nt * f->poff[f->nown]));
+  for (PetscInt e = 0; e < f->nown; e++)
+    for (PetscInt i = f->poff[e]; i < f->poff[e + 1]; i++)
+      if (f->flips[i] >= f->flip_limit) BwJointFieldElastic(f, f->own[e], f->newton_tangent + nt * i);
   *tangent = f->newton_tangent;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwJointFieldBeginStep(BwJointField f)
 {
-  PetscInt n = f->m * f->nown;
+  PetscInt n = f->poff[f->nown];
 
   PetscFunctionBeginUser;
   PetscCall(PetscArrayzero(f->flips, n));
@@ -156,25 +159,26 @@ PetscErrorCode BwJointFieldBeginStep(BwJointField f)
 
 PetscErrorCode BwJointFieldCommit(BwJointField f)
 {
-  PetscInt n = f->m * f->nown;
+  PetscInt n = f->poff[f->nown];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscArraycpy(f->committed, f->trial, BW_LAW_NSTATE * n));
+  PetscCall(PetscArraycpy(f->committed, f->trial, f->nst * n));
   PetscCall(PetscArraycpy(f->committed_mode, f->mode, n));
-  PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, 4 * n));
+  PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, f->ns * f->ns * n));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwJointFieldGetState(BwJointField f, const signed char **mode, PetscReal **plastic)
 {
-  PetscInt n = f->m * f->nown;
+  PetscInt n = f->poff[f->nown], ns = f->ns, nst = f->nst;
 
   PetscFunctionBeginUser;
   if (mode) *mode = f->committed_mode;
   if (plastic) {
     for (PetscInt i = 0; i < n; i++) {
-      f->plastic[2 * i]     = f->committed[BW_LAW_NSTATE * i + BW_LAW_STATE_SLIP];
-      f->plastic[2 * i + 1] = f->committed[BW_LAW_NSTATE * i + BW_LAW_STATE_OPENING];
+      f->plastic[ns * i]     = f->committed[nst * i + BW_LAW_STATE_SLIP];
+      f->plastic[ns * i + 1] = f->committed[nst * i + BW_LAW_STATE_OPENING];
+      if (ns == 3) f->plastic[ns * i + 2] = f->committed[nst * i + BW_LAW_STATE_SLIP_B];
     }
     *plastic = f->plastic;
   }
@@ -186,7 +190,7 @@ PetscErrorCode BwJointFieldCount(BwJointField f, PetscInt count[4])
   PetscInt loc[4] = {0, 0, 0, 0};
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < f->m * f->nown; i++) loc[f->committed_mode[i] & 3]++;
+  for (PetscInt i = 0; i < f->poff[f->nown]; i++) loc[f->committed_mode[i] & 3]++;
   PetscCallMPI(MPI_Allreduce(loc, count, 4, MPIU_INT, MPI_SUM, f->comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -194,7 +198,7 @@ PetscErrorCode BwJointFieldCount(BwJointField f, PetscInt count[4])
 
 PetscErrorCode BwJointFieldModeChanges(BwJointField f, PetscBool first, PetscInt *changes)
 {
-  PetscInt loc = 0, n = f->m * f->nown;
+  PetscInt loc = 0, n = f->poff[f->nown];
 
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < n; i++) {

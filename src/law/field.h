@@ -25,7 +25,7 @@ PetscErrorCode BwJointFieldBegin(BwJointField field);
  * naming the first interface where it did. */
 PetscErrorCode BwJointFieldFailed(BwJointField field, PetscBool *failed, char why[], size_t len);
 /* The tangents of the last evaluation, or (committed) those the last
- * converged state was reached with, 4 per portion (BwMixedSetTangents).
+ * converged state was reached with, ns x ns per portion (BwMixedSetTangents).
  * The committed ones start a step: re-evaluated at the converged state
  * with a zero increment, a portion on its yield surface answers with its
  * elastic stiffness, a poor predictor of a flow that goes on. */
@@ -33,9 +33,9 @@ PetscErrorCode BwJointFieldGetTangents(BwJointField field, PetscBool committed, 
 /* The trial state becomes the committed one (a converged step). */
 PetscErrorCode BwJointFieldCommit(BwJointField field);
 /* Per owned portion: the committed mode (0 elastic, 1 open, 2 sliding,
- * 3 both; m per interface) and plastic jump (slip, opening; 2m per
- * interface), for output; and the counts of open, sliding and both over
- * all ranks. */
+ * 3 both; one per portion of the owned interfaces, in their order) and
+ * plastic jump (slip, opening[, slip along b]; ns per portion), for
+ * output; and the counts of open, sliding and both over all ranks. */
 PetscErrorCode BwJointFieldGetState(BwJointField field, const signed char **mode, PetscReal **plastic);
 PetscErrorCode BwJointFieldCount(BwJointField field, PetscInt count[4]);
 /* A new step from the committed state: the portions' mode changes are

@@ -151,13 +151,13 @@ PetscErrorCode BwJointLawSetFromOptions(BwJointLaw law, BwScene scene, const cha
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwJointLawEvaluate(BwJointLaw law, const PetscReal par[], PetscInt n, const PetscReal state_in[], const PetscReal jump[], PetscReal stress[], PetscReal tangent[], PetscReal state_out[], signed char mode[], const char what[])
+PetscErrorCode BwJointLawEvaluate(BwJointLaw law, const PetscReal par[], PetscInt ns, PetscInt n, const PetscReal state_in[], const PetscReal jump[], PetscReal stress[], PetscReal tangent[], PetscReal state_out[], signed char mode[], const char what[])
 {
-  static const char *const why[] = {"", "has a non-positive or non-finite stiffness", "has an invalid strength", "found no admissible stress (the return mapping did not converge)", "met a non-finite jump", "met a non-finite or negative state"};
+  static const char *const why[] = {"", "has a non-positive or non-finite stiffness", "has an invalid strength", "found no admissible stress (the return mapping did not converge)", "met a non-finite jump", "met a non-finite or negative state", "was called with a number of stress components other than 2 or 3"};
   int                      status;
 
   PetscFunctionBeginUser;
-  law->kernel((int)n, par, state_in, jump, stress, tangent, state_out, mode, &status);
-  PetscCheck(status == BW_LAW_OK, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "%s: the %s joint law %s", what, law->kernel_name, status > 0 && status < 6 ? why[status] : "failed");
+  law->kernel((int)ns, (int)n, par, state_in, jump, stress, tangent, state_out, mode, &status);
+  PetscCheck(status == BW_LAW_OK, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "%s: the %s joint law %s", what, law->kernel_name, status > 0 && status < 7 ? why[status] : "failed");
   PetscFunctionReturn(PETSC_SUCCESS);
 }

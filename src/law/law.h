@@ -1,5 +1,6 @@
 /* BwJointLaw: how the joints of one kind (bed, head, unit) respond, per
- * portion: stress and 2x2 tangent from the jump and the portion's state.
+ * portion: stress and ns x ns tangent from the jump and the portion's
+ * state, in 2D (ns = 2) and 3D (ns = 3) alike.
  *
  * A law has two parts, each chosen by name from a registry:
  *   the elastic part (joints.law)   mortar: kn = E/e, kt = E/(2(1+nu) e)
@@ -17,7 +18,7 @@
 #include "scene/scene.h"
 #include "blockwall/laws.h"
 
-typedef void (*BwLawKernel)(int n, const double par[], const double state_in[], const double jump[], double stress[], double tangent[], double state_out[], signed char mode[], int *status);
+typedef void (*BwLawKernel)(int ns, int n, const double par[], const double state_in[], const double jump[], double stress[], double tangent[], double state_out[], signed char mode[], int *status);
 
 typedef struct _n_BwJointLaw *BwJointLaw;
 struct _n_BwJointLaw {
@@ -41,8 +42,9 @@ PetscErrorCode BwJointLawCreate(BwJointLaw *law);
 /* Reads <prefix>law, the elastic part's keys and <prefix>strength.*; keys
  * not given keep the values of `parent` (NULL: the defaults). */
 PetscErrorCode BwJointLawSetFromOptions(BwJointLaw law, BwScene scene, const char prefix[], BwJointLaw parent);
-/* Stress, tangent, new state and mode of n portions from their jumps, with
- * the parameters par (the law's, or an interface's own stiffness); an
- * error names `what` (the interface) when the kernel fails. */
-PetscErrorCode BwJointLawEvaluate(BwJointLaw law, const PetscReal par[], PetscInt n, const PetscReal state_in[], const PetscReal jump[], PetscReal stress[], PetscReal tangent[], PetscReal state_out[], signed char mode[], const char what[]);
+/* Stress, tangent, new state and mode of n portions with ns stress
+ * components (2 in 2D, 3 in 3D) from their jumps, with the parameters par
+ * (the law's, or an interface's own stiffness); an error names `what` (the
+ * interface) when the kernel fails. */
+PetscErrorCode BwJointLawEvaluate(BwJointLaw law, const PetscReal par[], PetscInt ns, PetscInt n, const PetscReal state_in[], const PetscReal jump[], PetscReal stress[], PetscReal tangent[], PetscReal state_out[], signed char mode[], const char what[]);
 PetscErrorCode BwJointLawDestroy(BwJointLaw *law);

@@ -186,7 +186,7 @@ static PetscErrorCode BwOutputWrite3D(BwOutput out, BwH5File h, const BwOutputDa
   dims[0] = (hsize_t)ni;
   PetscCall(BwH5FileWrite(h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, own->nown_interfaces, own->own_interfaces, res->relative));
   PetscCall(BwH5FileWrite(h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, own->nown_interfaces, own->own_interfaces, res->resultant));
-  if (out->stresses) {
+  if (out->stresses || data->state) {
     const BwPortions *P = own->portions;
     PetscReal        *cen, *area;
     PetscInt          n = 0;
@@ -209,7 +209,13 @@ static PetscErrorCode BwOutputWrite3D(BwOutput out, BwH5File h, const BwOutputDa
     PetscCall(BwH5FileWrite(h, "/portions/center", H5T_NATIVE_DOUBLE, 2, dims, nrows, rows, cen));
     PetscCall(BwH5FileWrite(h, "/portions/area", H5T_NATIVE_DOUBLE, 1, dims, nrows, rows, area));
     dims[1] = 3;
-    PetscCall(BwH5FileWrite(h, "/portions/stress", H5T_NATIVE_DOUBLE, 2, dims, nrows, rows, res->stress));
+    if (out->stresses) PetscCall(BwH5FileWrite(h, "/portions/stress", H5T_NATIVE_DOUBLE, 2, dims, nrows, rows, res->stress));
+    if (data->state) {
+      /* a pushover's joints: the portions' state and plastic jump (slip t,
+       * opening, slip b), in place of 2D's /interfaces/state and plastic_jump */
+      PetscCall(BwH5FileWrite(h, "/portions/state", H5T_NATIVE_SCHAR, 1, dims, nrows, rows, data->state));
+      PetscCall(BwH5FileWrite(h, "/portions/plastic_jump", H5T_NATIVE_DOUBLE, 2, dims, nrows, rows, data->plastic));
+    }
     PetscCall(PetscFree2(cen, area));
     PetscCall(PetscFree(rows));
     PetscCall(PetscFree(pofs));
@@ -587,7 +593,7 @@ static PetscErrorCode BwOutputWriteStepData(BwOutputFile of, PetscInt step, cons
   PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces", g));
   PetscCall(BwH5FileGroup(of->h, name));
   dims[0] = (hsize_t)own.nblocks;
-  dims[1] = 3;
+  dims[1] = (hsize_t)own.nd;
   PetscCall(PetscSNPrintf(name, sizeof(name), "%s/blocks/displacement", g));
   PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, own.nown_blocks, own.own_blocks, res->displacement));
   PetscCall(PetscSNPrintf(name, sizeof(name), "%s/blocks/reaction", g));
@@ -597,15 +603,36 @@ static PetscErrorCode BwOutputWriteStepData(BwOutputFile of, PetscInt step, cons
   PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->resultant));
   PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/relative_displacement", g));
   PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, own.nown_interfaces, own.own_interfaces, res->relative));
-  dims[1] = (hsize_t)own.m;
-  dims[2] = 2;
-  if (data->state) {
-    PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/state", g));
-    PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_SCHAR, 2, dims, own.nown_interfaces, own.own_interfaces, data->state));
-  }
-  if (out->stresses) {
-    PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/stress", g));
-    PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, res->stress));
+  if (own.dim == 3) {
+    /* the portions, ragged by /interfaces/portion_offsets (written at the end) */
+    int64_t *pofs;
+    PetscInt nrows, *rows;
+    PetscCall(BwOutputPortionRows(&own, &pofs, &nrows, &rows));
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%s/portions", g));
+    PetscCall(BwH5FileGroup(of->h, name));
+    dims[0] = (hsize_t)pofs[own.ninterfaces];
+    dims[1] = 3;
+    if (data->state) {
+      PetscCall(PetscSNPrintf(name, sizeof(name), "%s/portions/state", g));
+      PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_SCHAR, 1, dims, nrows, rows, data->state));
+    }
+    if (out->stresses) {
+      PetscCall(PetscSNPrintf(name, sizeof(name), "%s/portions/stress", g));
+      PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, nrows, rows, res->stress));
+    }
+    PetscCall(PetscFree(rows));
+    PetscCall(PetscFree(pofs));
+  } else {
+    dims[1] = (hsize_t)own.m;
+    dims[2] = 2;
+    if (data->state) {
+      PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/state", g));
+      PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_SCHAR, 2, dims, own.nown_interfaces, own.own_interfaces, data->state));
+    }
+    if (out->stresses) {
+      PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interfaces/stress", g));
+      PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 3, dims, own.nown_interfaces, own.own_interfaces, res->stress));
+    }
   }
   if (out->xdmf) {
     BwXdmfData x;
@@ -664,7 +691,7 @@ PetscErrorCode BwOutputClose(BwOutputFile *ofp, const BwOutputData *data, const 
     const char *from[2] = {of->xtmp, of->tmp}, *to[2] = {of->xdmf, of->file};
     int         n = out->xdmf ? 2 : 1, failed;
     errno = 0;
-    if (out->xdmf && BwXdmfWrite(of->file, of->xtmp, model->geom, of->nsteps, of->steps, data->state ? model->m : 0, out->stresses)) {
+    if (out->xdmf && BwXdmfWrite(of->file, of->xtmp, model->geom, of->nsteps, of->steps, data->state && model->geom->dim == 2 ? model->m : 0, out->stresses)) {
       ok = 0;
       snprintf(msg, sizeof(msg), "output.xdmf: cannot write '%s'%s%s; nothing was written", of->xdmf, errno ? ": " : "", errno ? strerror(errno) : "");
     } else if (BwRenameAll(n, out->xdmf ? from : from + 1, out->xdmf ? to : to + 1, &failed)) {

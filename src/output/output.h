@@ -28,8 +28,8 @@ typedef struct {
   const char      *scene;    /* the scene as run */
   const char      *casename; /* root attribute case, or NULL */
   /* nonlinear joints (NULL for elastic ones) */
-  const signed char *state;   /* m per owned interface: 0 elastic, 1 open, 2 sliding, 3 both */
-  const PetscReal   *plastic; /* 2m per owned interface: plastic slip and opening [m] */
+  const signed char *state;   /* one per portion of the owned interfaces: 0 elastic, 1 open, 2 sliding, 3 both */
+  const PetscReal   *plastic; /* ns per portion: plastic slip and opening [m] (3D: slip t, opening, slip b) */
 } BwOutputData;
 
 /* The history of an incremental analysis (rank 0's arrays; n converged

@@ -68,9 +68,11 @@ PetscErrorCode BwMixedResidual(BwMixed mx, Vec x, Vec b, BwPortionLawFn law, voi
 
 PetscErrorCode BwMixedDofRow(BwMixed mx, PetscInt block, PetscInt dof, PetscInt *row, PetscReal *scale)
 {
+  const PetscInt nd = mx->nd;
+
   PetscFunctionBeginUser;
-  PetscCheck(block >= 0 && block < mx->geom->nblocks && dof >= 0 && dof < 3, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "no dof %" PetscInt_FMT " of block %" PetscInt_FMT, dof, block);
-  *row   = mx->model->prescribed[3 * block + dof] || mx->krow_q[block] < 0 ? -1 : mx->krow_q[block] + dof;
-  *scale = mx->qscale ? mx->qscale[3 * block + dof] : 1;
+  PetscCheck(block >= 0 && block < mx->geom->nblocks && dof >= 0 && dof < nd, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "no dof %" PetscInt_FMT " of block %" PetscInt_FMT, dof, block);
+  *row   = mx->model->prescribed[nd * block + dof] || mx->krow_q[block] < 0 ? -1 : mx->krow_q[block] + dof;
+  *scale = mx->qscale ? mx->qscale[nd * block + dof] : 1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -49,22 +49,15 @@ static PetscErrorCode BwMixedElasticStiffness(BwMixed mx, PetscInt k, PetscReal 
 {
   BwGeometry  g = mx->geom;
   BwJointLaw  law;
-  PetscReal   par[BW_LAW_NPAR], state[BW_LAW_NSTATE] = {0, 0, 0, 0}, jump[BW_MAX_NS] = {0}, stress[BW_MAX_NS], tangent[BW_MAX_NS * BW_MAX_NS], state_out[BW_LAW_NSTATE];
+  PetscReal   par[BW_LAW_NPAR], state[BW_LAW_NSTATE_MAX] = {0}, jump[BW_MAX_NS] = {0}, stress[BW_MAX_NS], tangent[BW_MAX_NS * BW_MAX_NS], state_out[BW_LAW_NSTATE_MAX];
   signed char mode;
   char        what[128];
   int         status;
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(what, sizeof(what), "interface %" PetscInt_FMT " (blocks %" PetscInt_FMT ", %" PetscInt_FMT ")", k, g->pair[2 * k], g->pair[2 * k + 1]));
-  if (mx->dim == 3) {
-    /* the laws' kernels have two stress components; 3D joints are elastic
-     * (their strength is refused before the assembly): C = diag(kt, kn, kt) */
-    PetscCheck(!mx->model->nonlinear, PETSC_COMM_SELF, PETSC_ERR_SUP, "3D joints with strength are not available (%s)", what);
-    BwMixedElasticTangent(mx, k, tangent);
-  } else {
-    PetscCall(BwModelInterfaceLaw(mx->model, k, &law, par));
-    PetscCall(BwJointLawEvaluate(law, par, 1, state, jump, stress, tangent, state_out, &mode, what));
-  }
+  PetscCall(BwModelInterfaceLaw(mx->model, k, &law, par));
+  PetscCall(BwJointLawEvaluate(law, par, mx->ns, 1, state, jump, stress, tangent, state_out, &mode, what));
   {
     const PetscReal *area, *xi, *eta;
     PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);

@@ -35,3 +35,14 @@ set_tests_properties(gallery.u_wall3d PROPERTIES LABELS "gallery;dim3;mpi")
 # tools/plot on a 3D result (pvpython, off-screen).
 bw_py_test(dim3.plot "dim3;post" dim3/check_plot3d.py)
 set_tests_properties(dim3.plot PROPERTIES RESOURCE_LOCK xvfb)
+# Nonlinear joints and pushover in 3D (issue "Out-of-plane collapse"):
+# closed forms, the extrusion of the 2D pushovers, ranks, bad keys.
+foreach(case sliding8 tilt_slide tilt_rock torsion wall_tilt errors)
+  bw_py_test(dim3.nonlinear.${case} "dim3;nonlinear" dim3/check_nonlinear3d.py ${case})
+endforeach()
+foreach(case sliding overturning softening wall)
+  bw_py_test(dim3.nonlinear.extrusion_${case} "dim3;nonlinear" dim3/check_nonlinear3d.py extrusion ${case})
+endforeach()
+foreach(np 2 3)
+  bw_py_test(dim3.nonlinear.ranks_${np} "dim3;nonlinear;mpi" dim3/check_nonlinear3d.py ranks ${np})
+endforeach()

@@ -3,7 +3,8 @@
 # checks a closed form or an invariant; the tolerances and their reasons are in the source.
 add_executable(test_laws ${CMAKE_CURRENT_LIST_DIR}/test_laws.c)
 target_link_libraries(test_laws PRIVATE blockwall_core)
-foreach(case elastic cutoff coulomb corner apex notension soft_mode1 soft_mode2 unload tangent property bad)
+foreach(case elastic cutoff coulomb corner apex notension soft_mode1 soft_mode2 unload tangent property bad
+             cone3d extrude3d rotate3d property3d bad3d)
   add_test(NAME unit.laws.${case} COMMAND test_laws ${case})
   set_tests_properties(unit.laws.${case} PROPERTIES LABELS "unit;nonlinear")
 endforeach()

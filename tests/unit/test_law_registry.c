@@ -30,7 +30,7 @@ static PetscErrorCode Evaluate(BwJointLaw law, const PetscReal state[4], const P
   PetscReal so[4];
 
   PetscFunctionBeginUser;
-  PetscCall(BwJointLawEvaluate(law, law->par, 1, state, j, r, t, so, mode, "test"));
+  PetscCall(BwJointLawEvaluate(law, law->par, 2, 1, state, j, r, t, so, mode, "test"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
