@@ -25,6 +25,23 @@ def _interfaces(text, n):
     return chosen
 
 
+def _pushover_pictures(res, draw, outdir, stem, dpi, how):
+    """A pushover's capacity curve and its crack pattern at the peak and at
+    the end (draw(at): plot_cracks in 2D, plot_cracks3d in 3D)."""
+    path = os.path.join(outdir, f"{stem}_history.png")
+    plot_history(res).figure.savefig(path, dpi=dpi)
+    print(f"pushover history (load factor against the monitor dof): {path}")
+    if res.state is None:
+        print(f"no crack pattern: the file has no {'/portions/state' if res.dimension == 3 else '/interfaces/state'}")
+    for at in ("peak", "end") if res.state is not None else ():
+        cracks = draw(at)
+        path = os.path.join(outdir, f"{stem}_cracks_{at}.png")
+        cracks.figure.savefig(path, dpi=dpi)
+        which = (f"step {cracks.step}, the written step nearest to the peak, step {cracks.requested}" if cracks.nearest
+                 else f"step {cracks.step}")
+        print(f"crack pattern at the {at} ({which}){how}: {path}")
+
+
 def main(argv=None, prog="tools/plot"):
     p = argparse.ArgumentParser(
         prog=prog,
@@ -57,6 +74,15 @@ def main(argv=None, prog="tools/plot"):
     os.makedirs(outdir, exist_ok=True)
     stem = os.path.splitext(os.path.basename(args.file))[0]
     if res.dimension == 3:
+        if res.history:
+            # a 3D pushover: the capacity curve and the crack pattern (matplotlib)
+            from .cracks3d import plot_cracks3d
+            try:
+                _pushover_pictures(res, lambda at: plot_cracks3d(res, at, args.view), outdir, stem, args.dpi, f", {args.view} view")
+            except ValueError as e:
+                print(f"plot: error: {e}", file=sys.stderr)
+                return 1
+            return 0
         from .plot3d import render3d
         path = os.path.join(outdir, f"{stem}_3d_{args.view}.png")
         try:
@@ -71,18 +97,7 @@ def main(argv=None, prog="tools/plot"):
     wall.figure.savefig(path, dpi=args.dpi)
     print(f"wall, displacements x{wall.scale:g}: {path}")
     if res.history:
-        path = os.path.join(outdir, f"{stem}_history.png")
-        plot_history(res).figure.savefig(path, dpi=args.dpi)
-        print(f"pushover history (load factor against the monitor dof): {path}")
-        if res.state is None:
-            print("no crack pattern: the file has no /interfaces/state")
-        for at in ("peak", "end") if res.state is not None else ():
-            cracks = plot_cracks(res, at)
-            path = os.path.join(outdir, f"{stem}_cracks_{at}.png")
-            cracks.figure.savefig(path, dpi=args.dpi)
-            which = (f"step {cracks.step}, the written step nearest to the peak, step {cracks.requested}" if cracks.nearest
-                     else f"step {cracks.step}")
-            print(f"crack pattern at the {at} ({which}): {path}")
+        _pushover_pictures(res, lambda at: plot_cracks(res, at), outdir, stem, args.dpi, "")
     if res.stress is None:
         print("no stress diagrams: the file has no /interfaces/stress (output.stresses false)")
         return 0

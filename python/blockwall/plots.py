@@ -191,7 +191,7 @@ def curve_axes(res):
     sv = res.solver or {}
     dof, where = sv.get("monitor_dof"), sv.get("monitor_set")
     if dof and where:
-        xs, xl = (1e3, f"{dof} of {where} [mrad]") if dof == "w" else (1e3, f"{dof} of {where} [mm]")
+        xs, xl = (1e3, f"{dof} of {where} [mrad]") if dof.startswith("w") else (1e3, f"{dof} of {where} [mm]")
     else:
         xs, xl = 1.0, "monitor dof [m or rad]"
     pr = sv.get("pattern_resultant")
@@ -302,17 +302,7 @@ def plot_cracks(res, at="end"):
     pushover, the capacity curve with the step drawn marked."""
     if res.state is None:
         raise ValueError(f"{res.path} has no /interfaces/state (joints without strength): no crack pattern")
-    history = res.history if res.history and "load_factor" in res.history and "monitor" in res.history else None
-    last = len(history["load_factor"]) - 1 if history else None
-    if at == "end":
-        requested, step, state = last, last, np.asarray(res.state)
-    else:
-        if isinstance(at, str) and at != "peak":
-            raise ValueError(f"at must be 'end', 'peak' or a step number, got {at!r}")
-        requested = peak_step(res) if at == "peak" else int(at)
-        step = nearest_written_step(res, requested)
-        state = np.asarray(res.steps[step].state)
-    kind = at if isinstance(at, str) else "step"
+    history, kind, requested, step, state = crack_step(res, at)
     state = state.reshape(res.ninterfaces, res.m)
     segments = portion_segments(res)
     counts = np.bincount(state.ravel().astype(np.int64), minlength=len(STATES))
@@ -341,6 +331,29 @@ def plot_cracks(res, at="end"):
     ax.set_xlabel("x1 [m]")
     ax.set_ylabel("x2 [m]")
 
+    lam, mon, nearest = crack_panel(res, fig, ax_h, history, kind, requested, step)
+    return CrackPlot(fig, ax, ax_h, kind, requested, step, nearest, state, segments, counts, lines, lam, mon)
+
+
+def crack_step(res, at):
+    """Which state a crack pattern draws (2D and 3D): (history or None, kind
+    "end" | "peak" | "step", the step asked for, the step drawn, its state):
+    the final state, the peak's step or a given one (the written step
+    nearest to it)."""
+    history = res.history if res.history and "load_factor" in res.history and "monitor" in res.history else None
+    last = len(history["load_factor"]) - 1 if history else None
+    if at == "end":
+        return history, "end", last, last, np.asarray(res.state)
+    if isinstance(at, str) and at != "peak":
+        raise ValueError(f"at must be 'end', 'peak' or a step number, got {at!r}")
+    requested = peak_step(res) if at == "peak" else int(at)
+    step = nearest_written_step(res, requested)
+    return history, at if isinstance(at, str) else "step", requested, step, np.asarray(res.steps[step].state)
+
+
+def crack_panel(res, fig, ax_h, history, kind, requested, step):
+    """A crack pattern's capacity curve beside it (the peak ringed, the step
+    drawn in red) and its title. Returns (lambda, monitor, nearest)."""
     lam = mon = None
     if history:
         lam, mon = float(history["load_factor"][step]), float(history["monitor"][step])
@@ -355,7 +368,6 @@ def plot_cracks(res, at="end"):
         ax_h.set_ylabel(yl.replace(" (λ", "\n(λ"))
         ax_h.grid(True, alpha=0.3)
         ax_h.legend(loc="best", fontsize="small")
-
     nearest = requested is not None and step != requested
     where = {"end": "at the end", "peak": "at the peak", "step": f"at step {requested}"}[kind]
     if step is None:
@@ -368,4 +380,4 @@ def plot_cracks(res, at="end"):
     # the figure's title, not the wall's: a title longer than the wall's
     # axes ran off the figure's left edge (issue 17); the layout makes room
     fig.suptitle(f"{res.title or 'blockwall'}: crack pattern {where}\n{what}", wrap=True)
-    return CrackPlot(fig, ax, ax_h, kind, requested, step, nearest, state, segments, counts, lines, lam, mon)
+    return lam, mon, nearest

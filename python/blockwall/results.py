@@ -76,8 +76,8 @@ class Step:
     reaction: np.ndarray
     resultant: np.ndarray
     relative: np.ndarray
-    state: np.ndarray | None
-    stress: np.ndarray | None
+    state: np.ndarray | None        # (I, m); 3D: (P,) /steps/N/portions/state
+    stress: np.ndarray | None       # (I, m, 2); 3D: (P, 3)
     attrs: dict = field(default_factory=dict)
 
 
@@ -105,8 +105,8 @@ class Results:
     sets: dict = field(default_factory=dict)        # name -> block indices
     attrs: dict = field(default_factory=dict)       # root attributes
     solver: dict = field(default_factory=dict)      # /solver attributes
-    state: np.ndarray | None = None                 # (I, m) int8: 0 elastic, 1 open, 2 sliding, 3 both
-    plastic_jump: np.ndarray | None = None          # (I, m, 2) plastic slip and opening [m]
+    state: np.ndarray | None = None                 # (I, m) int8: 0 elastic, 1 open, 2 sliding, 3 both (3D: (P,))
+    plastic_jump: np.ndarray | None = None          # (I, m, 2) plastic slip and opening [m] (3D: (P, 3), slip b last)
     history: dict | None = None                     # load_factor, monitor, iterations, residual: (S,)
     steps: dict = field(default_factory=dict)       # step number -> Step
     datasets: dict = field(default_factory=dict)    # every dataset of the file by path
@@ -208,8 +208,10 @@ def read(path):
                 steps[int(name)] = Step(
                     number=int(name), displacement=_opt(s, "blocks/displacement"),
                     reaction=_opt(s, "blocks/reaction"), resultant=_opt(s, "interfaces/resultant"),
-                    relative=_opt(s, "interfaces/relative_displacement"), state=_opt(s, "interfaces/state"),
-                    stress=_opt(s, "interfaces/stress"), attrs=attributes(s))
+                    relative=_opt(s, "interfaces/relative_displacement"),
+                    state=_opt(s, "interfaces/state") if "interfaces/state" in s else _opt(s, "portions/state"),
+                    stress=_opt(s, "interfaces/stress") if "interfaces/stress" in s else _opt(s, "portions/stress"),
+                    attrs=attributes(s))
         if int(f.attrs.get("dimension", 2)) == 3:
             return Results(
                 path=path, dimension=3, mb=int(f.attrs.get("m_b", 1)),
@@ -227,7 +229,8 @@ def read(path):
                 frame=g("interfaces/frame"), area=g("interfaces/area"),
                 interface_vertices=g("interfaces/vertices"), interface_offsets=g("interfaces/offsets"),
                 portion_offsets=_opt(f, "interfaces/portion_offsets"), portion_center=_opt(f, "portions/center"),
-                portion_area=_opt(f, "portions/area"), portion_stress=_opt(f, "portions/stress"))
+                portion_area=_opt(f, "portions/area"), portion_stress=_opt(f, "portions/stress"),
+                state=_opt(f, "portions/state"), plastic_jump=_opt(f, "portions/plastic_jump"))
         return Results(
             path=path,
             vertices=g("blocks/vertices"), offsets=g("blocks/offsets"), centroid=g("blocks/centroid"),

@@ -59,7 +59,9 @@ PetscErrorCode BwSolverSetDiagnose(BwSolver solver, PetscBool diagnose);
  * displacement error (default), which takes two steps of refinement at
  * least. Newton's corrections need only a small residual: their errors are
  * corrected by the next iteration, which checks the true residual of the
- * nonlinear system itself. */
+ * nonlinear system itself; without the check, a fieldsplit solve that
+ * stalls within sqrt(solver.rtol) is accepted rather than refactored on
+ * the direct path. */
 PetscErrorCode BwSolverSetForwardCheck(BwSolver solver, PetscBool check);
 /* Binds the solver to an assembled system and creates its KSPs (no
  * factorisation yet: that is the first solve's set-up phase). */

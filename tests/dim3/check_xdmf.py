@@ -13,8 +13,16 @@ no rendering, so no display is needed), with every reader it has for XDMF
               /interfaces/area (1e-12), resultant and relative_displacement
               (6 components) equal to /interfaces/*
 
+A 3D pushover (check_xdmf.py pushover: the tilted wall of
+check_nonlinear3d.py, every 10th step written) is a temporal collection:
+with each reader the times are the written steps, and at every time the
+blocks' displacement and vertex_displacement and the interfaces'
+resultant are that step's /steps/NNNNNN datasets (1e-15, 1e-13).
+
 usage: check_xdmf.py [RANKS]            (outside: runs blockwall, then pvpython)
+       check_xdmf.py pushover
        pvpython check_xdmf.py --inside REF.npz XDMF
+       pvpython check_xdmf.py --inside-steps REF.npz XDMF
 """
 import json
 import os
@@ -87,6 +95,83 @@ def inside(ref_path, xdmf):
         sys.exit(1)
 
 
+def inside_steps(ref_path, xdmf):
+    from paraview import servermanager as sm
+    from paraview import simple
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    ref = np.load(ref_path)
+    steps, failures = [int(t) for t in ref["steps"]], []
+    readers = {"OpenDataFile": lambda: simple.OpenDataFile(xdmf),
+               "Xdmf3ReaderT": lambda: simple.Xdmf3ReaderT(FileName=[xdmf])}
+    for name, make in readers.items():
+        r = make()
+        r.UpdatePipelineInformation()
+        times = [int(round(t)) for t in r.TimestepValues]
+        if times != steps:
+            failures.append(f"{name}: times {times}, written steps {steps}")
+            continue
+        worst = 0.0
+        for k, t in enumerate(steps):
+            r.UpdatePipeline(float(t))
+            d = sm.Fetch(r)
+            it, grids = d.NewIterator(), []
+            it.InitTraversal()
+            while not it.IsDoneWithTraversal():
+                grids.append(it.GetCurrentDataObject())
+                it.GoToNextItem()
+            b, i = grids
+            for got, want, tol in ((b.GetCellData().GetArray("displacement"), ref["displacement"][k], 1e-15),
+                                   (b.GetPointData().GetArray("vertex_displacement"), ref["vertex_displacement"][k], 1e-13),
+                                   (i.GetCellData().GetArray("resultant"), ref["resultant"][k], 1e-15)):
+                got = np.asarray(vtk_to_numpy(got)).reshape(np.shape(want))
+                e = float(np.max(np.abs(got - want)) / max(np.max(np.abs(want)), 1e-300))
+                worst = max(worst, e)
+                if not e <= tol:
+                    failures.append(f"{name}: step {t}: a field differs by {e:.2e}")
+        print(f"{name}: {len(steps)} timesteps, fields equal to {worst:.1e}")
+        simple.Delete(r)
+    if failures:
+        print("FAIL: " + "; ".join(failures))
+        sys.exit(1)
+
+
+def pushover():
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from bwrun import Failure, expect, read, run  # noqa: E402
+    import check_nonlinear3d as n3  # noqa: E402
+    try:
+        with tempfile.TemporaryDirectory() as tmp:
+            scene = os.path.join(tmp, "tilt.yaml")
+            with open(scene, "w") as f:
+                f.write(n3.WALL3.format(mb=2).replace("xdmf: false", "xdmf: true, steps: every_10"))
+            out = os.path.join(tmp, "tilt.h5")
+            run(scene, ["-output_file", out])
+            r = read(out)
+            v, off, c = r["blocks/vertices"], r["blocks/offsets"], r["blocks/centroid"]
+            steps = sorted({int(k.split("/")[1]) for k in r if k.startswith("steps/")})
+            expect(len(steps) >= 3, f"written steps {steps}")
+            disp, vds, res = [], [], []
+            for t in steps:
+                q = r[f"steps/{t:06d}/blocks/displacement"]
+                vd = np.zeros_like(v)
+                for blk in range(len(off) - 1):
+                    p = v[off[blk]:off[blk + 1]]
+                    vd[off[blk]:off[blk + 1]] = q[blk, :3] + np.cross(q[blk, 3:], p - c[blk])
+                disp.append(q), vds.append(vd), res.append(r[f"steps/{t:06d}/interfaces/resultant"])
+            ref = os.path.join(tmp, "ref.npz")
+            np.savez(ref, steps=np.array(steps), displacement=np.array(disp), vertex_displacement=np.array(vds), resultant=np.array(res))
+            env = {k: val for k, val in os.environ.items() if k != "DISPLAY"}
+            p = subprocess.run([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), "--inside-steps", ref,
+                                out[:-3] + ".xdmf"], capture_output=True, text=True, env=env, timeout=300)
+            print(p.stdout)
+            expect(p.returncode == 0, f"pvpython: exit {p.returncode}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+    except Failure as e:
+        print(f"FAIL: {e}")
+        sys.exit(1)
+
+
 def outside(ranks):
     sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
     from bwrun import Failure, expect, read, run  # noqa: E402
@@ -122,5 +207,9 @@ def outside(ranks):
 if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "--inside":
         inside(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) > 1 and sys.argv[1] == "--inside-steps":
+        inside_steps(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) > 1 and sys.argv[1] == "pushover":
+        pushover()
     else:
         outside(int(sys.argv[1]) if len(sys.argv) > 1 else 1)

@@ -20,6 +20,7 @@ bw_py_test(dim3.closed_form.5x3_2ranks "dim3;mpi" dim3/check_closed_form.py 5 3 
 foreach(np 1 3)
   bw_py_test(dim3.xdmf_np${np} "dim3;post" dim3/check_xdmf.py ${np})
 endforeach()
+bw_py_test(dim3.xdmf_pushover "dim3;post;nonlinear" dim3/check_xdmf.py pushover)
 # 3D geometry files: hulls, detection, frame independence, bad files.
 foreach(case twoboxes generator rotated general errors)
   bw_py_test(dim3.file.${case} dim3 dim3/check_file.py ${case})
@@ -46,3 +47,10 @@ endforeach()
 foreach(np 2 3)
   bw_py_test(dim3.nonlinear.ranks_${np} "dim3;nonlinear;mpi" dim3/check_nonlinear3d.py ranks ${np})
 endforeach()
+# The static theorem (python/blockwall/limit.py, scipy) against closed forms
+# and against the pushover of the U-shaped wall on a tilting table.
+foreach(case block u_wall)
+  bw_py_test(dim3.limit.${case} "dim3;nonlinear;gallery" dim3/check_limit3d.py ${case})
+endforeach()
+# tools/plot on a 3D pushover: capacity curve and crack pattern (matplotlib).
+bw_py_test(dim3.plot_cracks "dim3;post;nonlinear" dim3/check_cracks3d.py)

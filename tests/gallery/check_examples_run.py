@@ -69,6 +69,7 @@ def check_missing():
         want = {"arch.yaml": "python3 examples/arch.py", "stones.yaml": "python3 examples/stones.py",
                 "facade.yaml": "tools/import_dxf examples/facade.dxf examples/facade.h5",
                 "cantilever3d.yaml": "python3 examples/cantilever.py", "u_wall.yaml": "python3 examples/u_wall.py",
+                "u_wall_tilt.yaml": "python3 examples/u_wall.py",
                 "vault.yaml": "python3 examples/vault.py"}
         for scene, hint in want.items():
             p = blockwall(os.path.join("examples", scene), os.path.join(tmp, "out.h5"), 1, tmp)
