@@ -77,6 +77,15 @@ PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], BwH5File *fp)
   PetscCall(BwH5Agree(f, f->file < 0, err, "creating it"));
   BwH5Try(f, f->dxpl, H5Pcreate(H5P_DATASET_XFER));
   if (f->dxpl >= 0 && !f->serial) BwH5Try(f, rc, H5Pset_dxpl_mpio(f->dxpl, H5FD_MPIO_COLLECTIVE));
+  /* Collective at HDF5's level, but each rank writes its own rows with
+   * independent MPI-IO calls: in MPI-IO's two-phase collective write, a
+   * rank whose write failed (a full disk seen by one aggregator) left
+   * HDF5's H5Dwrite early while the other went on into the file view's
+   * reset, a collective call: the two ranks waited in different
+   * collectives for ever (errors.io.diskfull_2, 1 run in 25 with the CPUs
+   * busy). Each rank's failure is now its own, and the agreement after
+   * the write tells every rank. */
+  if (f->dxpl >= 0 && !f->serial && rc >= 0) BwH5Try(f, rc, H5Pset_dxpl_mpio_collective_opt(f->dxpl, H5FD_MPIO_INDIVIDUAL_IO));
   PetscCall(BwH5Agree(f, f->dxpl < 0 || rc < 0, err, "setting up collective transfers"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
