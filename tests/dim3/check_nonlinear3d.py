@@ -37,7 +37,7 @@ and invariants. Each case says its reference and its tolerance's reason.
                 1e-9, never above it.
   extrusion C   a 2D pushover of tests/nonlinear (C: sliding, overturning,
                 softening, wall: a softening running-bond wall past its
-                peak) and its extrusion along X3 with in-plane loads (m_b =
+                peak; j4d: examples/j4d.yaml, the TU Eindhoven wall) and its extrusion along X3 with in-plane loads (m_b =
                 2): the same steps, load factor and monitor at every step
                 (1e-8 of their largest value), the same final (u1, u2, w3)
                 as (u1, u2, w), u3 = w1 = w2 = 0, and every row of b-portions
@@ -250,7 +250,9 @@ def to3d(text, mb=2):
     t = re.sub(r"generator: (\w+), ", r"generator: \1, dimension: 3, ", text)
     t = re.sub(r"generator: (\w+)\n", r"generator: \1\n  dimension: 3\n", t)
     t = re.sub(r"discretization: \{m: (\d+)\}", rf"discretization: {{m: \1, m_b: {mb}}}", t)
+    t = re.sub(r"discretization:\n  m: (\d+)\n", rf"discretization:\n  m: \1\n  m_b: {mb}\n", t)
     t = t.replace("{u1: 0, u2: 0, w: 0}", "{u1: 0, u2: 0, u3: 0, w1: 0, w2: 0, w3: 0}").replace("{w: 0}", "{w3: 0}")
+    t = t.replace(", w: 0}", ", w3: 0}")
     t = re.sub(r"\[([^,\[\]]+), ([^,\[\]]+), ([^,\[\]]+)\]", r"[\1, \2, 0, 0, 0, \3]", t)
     t = re.sub(r"body_force: \[([^,\]]+), ([^,\]]+)\]", r"body_force: [\1, \2, 0]", t)
     return t.replace("dof: w}", "dof: w3}")
@@ -275,6 +277,10 @@ def extrusion(case):
                              strength="tension: 0.25e6, cohesion: 1.0e7, friction: 0.75, tension_energy: 18", m=4, F1=0, F2=0, M3=0, extra=extra)
     elif case == "wall":
         text = cn.WALL
+    elif case == "j4d":
+        # examples/j4d.yaml: split units, confinement by a prescribed settlement, 100 steps to 4 mm
+        with open(os.path.join(HERE, "..", "..", "examples", "j4d.yaml")) as f:
+            text = f.read().replace("  steps: every_5\n  xdmf: true", "  steps: last\n  xdmf: false")
     else:
         raise SystemExit(f"unknown extrusion case {case}")
     mb = 2
