@@ -35,9 +35,12 @@ and invariants. Each case says its reference and its tolerance's reason.
                 the height of the centroid of every block above the base
                 joint (from the blocks' boxes), y_0 the joint's plane: to
                 1e-9, never above it.
-  extrusion C   a 2D pushover of tests/nonlinear (C: sliding, overturning,
-                softening, wall: a softening running-bond wall past its
-                peak; j4d: examples/j4d.yaml, the TU Eindhoven wall) and its extrusion along X3 with in-plane loads (m_b =
+  extrusion C   a 2D pushover of tests/nonlinear (C: sliding, dilatancy,
+                overturning, softening; wall: a softening running-bond
+                wall past its peak; j4d: examples/j4d.yaml, the TU
+                Eindhoven wall; snapback: the stack of check_past_peak.py
+                pulled apart under dissipation control through its
+                snap-back) and its extrusion along X3 with in-plane loads (m_b =
                 2): the same steps, load factor and monitor at every step
                 (1e-8 of their largest value), the same final (u1, u2, w3)
                 as (u1, u2, w), u3 = w1 = w2 = 0, and every row of b-portions
@@ -265,6 +268,11 @@ def extrusion(case):
                  "monitor: {set: top, dof: u1}, target: 1e-4, steps: 20}")
         text = cn.TWO.format(s=0.1, l=0.2, a=0.1, kn=1e11, kt=4e10, strength="tension: 1.0e5, cohesion: 1.0e4, friction: 0.75",
                              m=8, F1=0, F2=-1000, M3=0, extra=extra)
+    elif case == "dilatancy":
+        extra = ("analysis:\n  type: pushover\n  pushover: {loads: {top: [1, 0, 0.055]}, control: displacement, "
+                 "monitor: {set: top, dof: u1}, target: 1e-4, steps: 20}")
+        text = cn.TWO.format(s=0.1, l=0.2, a=0.1, kn=1e11, kt=4e10,
+                             strength="tension: 1.0e5, cohesion: 1.0e4, friction: 0.75, dilatancy: 0.3", m=8, F1=0, F2=-1000, M3=0, extra=extra)
     elif case == "overturning":
         extra = ("analysis:\n  type: pushover\n  pushover: {loads: {top: [1, 0, 0]}, control: displacement, "
                  "monitor: {set: top, dof: w}, target: -3e-5, steps: 40}")
@@ -281,12 +289,32 @@ def extrusion(case):
         # examples/j4d.yaml: split units, confinement by a prescribed settlement, 100 steps to 4 mm
         with open(os.path.join(HERE, "..", "..", "examples", "j4d.yaml")) as f:
             text = f.read().replace("  steps: every_5\n  xdmf: true", "  steps: last\n  xdmf: false")
+    elif case == "snapback":
+        text = None  # a stack of blocks written as files, below
     else:
         raise SystemExit(f"unknown extrusion case {case}")
     mb = 2
     with tempfile.TemporaryDirectory() as tmp:
+        if case == "snapback":
+            # tests/nonlinear/check_past_peak.py's stack pulled apart under dissipation
+            # control (a snap-back), its blocks extruded into boxes over [0, depth]
+            import check_past_peak as cp
+            import blockwall as bw
+            scene = cp.stack_scene(tmp, "dissipation", cp.GF * cp.AW / 120)
+            with open(scene) as f:
+                text = f.read()
+            g = bw.Geometry()
+            g.add_block(bw.box(0, -0.1, 0, cp.B, 0.0, cp.S), sets=["base"])
+            for k in range(cp.N):
+                y0 = cp.E + k * (cp.H + cp.E)
+                x0, x1 = (0.001, cp.B - 0.001) if k == cp.N - 1 else (0.0, cp.B)
+                g.add_block(bw.box(x0, y0, 0, x1, y0 + cp.H, cp.S), sets=["top", "column"] if k == cp.N - 1 else ["column"])
+            g.write(os.path.join(tmp, "stack3.h5"))
         r2 = solve(tmp, text, name="two.yaml")
-        r3 = solve(tmp, to3d(text, mb), name="three.yaml")
+        t3 = to3d(text, mb)
+        if case == "snapback":
+            t3 = t3.replace("file: stack.h5", "file: stack3.h5")  # a 3D file: its vertices say so
+        r3 = solve(tmp, t3, name="three.yaml")
     h2, h3 = (r2["history/load_factor"], r2["history/monitor"]), (r3["history/load_factor"], r3["history/monitor"])
     expect(len(h2[0]) == len(h3[0]), f"{case}: 2D {len(h2[0])} steps, 3D {len(h3[0])}")
     e = max(rel_err(h3[0], h2[0]), rel_err(h3[1], h2[1]))
