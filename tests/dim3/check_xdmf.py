@@ -136,6 +136,15 @@ def inside_steps(ref_path, xdmf):
         sys.exit(1)
 
 
+def pvpython(expect, mode, ref, xdmf):
+    """This file's inside half under pvpython, without a display (data only)."""
+    env = {k: val for k, val in os.environ.items() if k != "DISPLAY"}
+    p = subprocess.run([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), mode, ref, xdmf],
+                       capture_output=True, text=True, env=env, timeout=300)
+    print(p.stdout)
+    expect(p.returncode == 0, f"pvpython: exit {p.returncode}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+
+
 def pushover():
     sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -162,11 +171,7 @@ def pushover():
                 disp.append(q), vds.append(vd), res.append(r[f"steps/{t:06d}/interfaces/resultant"])
             ref = os.path.join(tmp, "ref.npz")
             np.savez(ref, steps=np.array(steps), displacement=np.array(disp), vertex_displacement=np.array(vds), resultant=np.array(res))
-            env = {k: val for k, val in os.environ.items() if k != "DISPLAY"}
-            p = subprocess.run([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), "--inside-steps", ref,
-                                out[:-3] + ".xdmf"], capture_output=True, text=True, env=env, timeout=300)
-            print(p.stdout)
-            expect(p.returncode == 0, f"pvpython: exit {p.returncode}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+            pvpython(expect, "--inside-steps", ref, out[:-3] + ".xdmf")
     except Failure as e:
         print(f"FAIL: {e}")
         sys.exit(1)
@@ -194,11 +199,7 @@ def outside(ranks):
             np.savez(ref, volume=np.array(vol), area=r["interfaces/area"], vertex_displacement=vd,
                      displacement=q, reaction=r["blocks/reaction"], load=r["blocks/load"],
                      resultant=r["interfaces/resultant"], relative_displacement=r["interfaces/relative_displacement"])
-            env = {k: val for k, val in os.environ.items() if k != "DISPLAY"}
-            p = subprocess.run([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), "--inside", ref,
-                                out[:-3] + ".xdmf"], capture_output=True, text=True, env=env, timeout=300)
-            print(p.stdout)
-            expect(p.returncode == 0, f"pvpython: exit {p.returncode}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+            pvpython(expect, "--inside", ref, out[:-3] + ".xdmf")
     except Failure as e:
         print(f"FAIL: {e}")
         sys.exit(1)
