@@ -28,8 +28,8 @@
  *
  * Arguments: ns stress components per portion (2 in 2D, 3 in 3D); n portions of one
  * interface share par[BW_LAW_NPAR]. Arrays are interleaved per portion: jump[ns n]
- * and stress[ns n] in the order (shear t, normal[, shear b]), state_in[(ns+2) n] and
- * state_out[(ns+2) n] as BW_LAW_NSTATE_OF(ns) entries BW_LAW_STATE_*, tangent[ns ns n] as
+ * and stress[ns n] in the order (shear t, normal[, shear b]), state_in[(ns+3) n] and
+ * state_out[(ns+3) n] as BW_LAW_NSTATE_OF(ns) entries BW_LAW_STATE_*, tangent[ns ns n] as
  * the row-major ns x ns dr/dj (2D: drt/ddt, drt/ddn, drn/ddt, drn/ddn), mode[n] a
  * BwLawMode.
  * On a non-zero status the outputs are undefined (portions before the failing one are
@@ -51,6 +51,10 @@ enum {
   BW_LAW_PAR_TANPSI, /* dilatancy tan(psi), 0 <= tan(psi) <= tan(phi) */
   BW_LAW_PAR_GFI,    /* mode I fracture energy [N/m]; <= 0: no tension softening */
   BW_LAW_PAR_GFII,   /* mode II fracture energy [N/m]; <= 0: no cohesion softening */
+  BW_LAW_PAR_FC,     /* coulomb_cap: compressive strength fc > 0 [Pa] */
+  BW_LAW_PAR_CSS,    /* coulomb_cap: shear term Css > 0 of the cap */
+  BW_LAW_PAR_GFC,    /* coulomb_cap: compressive fracture energy Gfc [N/m]; <= 0: cap perfectly plastic at fc */
+  BW_LAW_PAR_KP,     /* coulomb_cap: plastic jump kappa_p > 0 at the cap's peak [m] (read with Gfc > 0) */
   BW_LAW_NPAR
 };
 
@@ -60,19 +64,22 @@ enum {
   BW_LAW_STATE_OPENING, /* plastic opening [m] */
   BW_LAW_STATE_K1,      /* accumulated plastic opening of the cut-off, >= 0 [m] */
   BW_LAW_STATE_K2,      /* accumulated plastic slip magnitude of the cone, >= 0 [m] */
+  BW_LAW_STATE_K3,      /* accumulated length of the cap's plastic jump, >= 0 [m] (0 without a cap) */
   BW_LAW_NSTATE,        /* entries of a 2D portion's state */
   BW_LAW_STATE_SLIP_B = BW_LAW_NSTATE, /* 3D: plastic slip along b [m], last */
   BW_LAW_NSTATE_MAX     /* entries of a 3D portion's state */
 };
 /* Entries of a portion's state with ns stress components. */
-#define BW_LAW_NSTATE_OF(ns) ((ns) + 2)
+#define BW_LAW_NSTATE_OF(ns) ((ns) + 3)
 
-/* Which surfaces the returned stress lies on. */
+/* Which surfaces the returned stress lies on: a set of bits, so that a
+ * corner is the sum of its surfaces. */
 typedef enum {
   BW_LAW_MODE_ELASTIC = 0, /* no plastic flow in this step */
   BW_LAW_MODE_OPEN    = 1, /* on the tension cut-off */
   BW_LAW_MODE_SLIDING = 2, /* on the Coulomb cone, its apex included */
-  BW_LAW_MODE_CORNER  = 3  /* on both (corner; apex on the cut-off, or lowered cut-off) */
+  BW_LAW_MODE_CORNER  = 3, /* on both (corner; apex on the cut-off, or lowered cut-off) */
+  BW_LAW_MODE_CRUSHED = 4  /* on the compressive cap (6: its corner with the cone) */
 } BwLawMode;
 
 typedef enum {
@@ -95,6 +102,17 @@ void bw_law_elastic(int ns, int n, const double par[], const double state_in[], 
  * updated state and the mode. */
 void bw_law_coulomb(int ns, int n, const double par[], const double state_in[], const double jump[], double stress[],
                     double tangent[], double state_out[], signed char mode[], int *status);
+/* The same with the compressive cap f3 = rn^2 + Css |tau|^2 - sbar(k3)^2 <= 0 (model.md,
+ * "Compressive cap"): associated flow, k3 the accumulated length of its plastic jump,
+ * sbar hardening from fc/3 to fc at kappa_p and softening to fc/10 with Gfc past the
+ * peak (constant fc without Gfc). Where the Coulomb return's stress lies outside the
+ * cap: the return to the cap, else to its corner with the cone; for a given cap
+ * multiplier mu the stress is explicit (r_a = r_tr,a / (1 + 2 mu C_aa Css_a), less the
+ * cone's flow at the corner), so the return is one bracketed scalar equation in mu.
+ * Consistent tangent by implicit differentiation of the local system; non-symmetric
+ * while sbar varies. */
+void bw_law_coulomb_cap(int ns, int n, const double par[], const double state_in[], const double jump[], double stress[],
+                        double tangent[], double state_out[], signed char mode[], int *status);
 
 #ifdef __cplusplus
 }

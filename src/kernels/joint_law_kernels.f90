@@ -60,15 +60,20 @@ module bw_joint_law_kernels
   use, intrinsic :: iso_c_binding, only: c_double, c_int, c_signed_char
   implicit none
   private
-  public :: bw_law_elastic, bw_law_coulomb
+  public :: bw_law_elastic, bw_law_coulomb, bw_law_coulomb_cap
 
   integer(c_int), parameter, public :: BW_LAW_OK = 0, BW_LAW_BAD_STIFFNESS = 1, &
        BW_LAW_BAD_STRENGTH = 2, BW_LAW_NOT_CONVERGED = 3, BW_LAW_BAD_JUMP = 4, BW_LAW_BAD_STATE = 5, &
        BW_LAW_BAD_SIZE = 6
 
   ! Positions in par (BW_LAW_PAR_* + 1); a portion's state is (slip, opening, k1, k2).
-  integer, parameter :: NPAR = 8, NSTATE = 4
+  integer, parameter :: NPAR = 12, NSTATE = 4
   integer, parameter :: IKT = 1, IKN = 2, IFT = 3, ICOH = 4, ITANPHI = 5, ITANPSI = 6, IGFI = 7
+  ! The cap's parameters: fc, Css, Gfc, kappa_p.
+  integer, parameter :: IFC = 9, ICSS = 10, IGFC = 11, IKP = 12
+  ! A portion's state with ns stress components: (slip, opening, k1, k2, k3[, slip_b]);
+  ! the Coulomb return works on its first NSTATE entries, the cap adds k3.
+  integer, parameter :: NSTATE_2D = NSTATE + 1, IK3 = NSTATE + 1, ISLIPB = NSTATE + 2
   ! The internal variable of each surface: k1 for the cut-off, k2 for both cone halves.
   integer, parameter :: KVAR(3) = [1, 2, 2]
   ! Pairs in the order tried: the corners with the cut-off before the apex, so that a
@@ -91,11 +96,17 @@ module bw_joint_law_kernels
     real(c_double) :: s0(2) = ZERO   ! ft0, c0
     real(c_double) :: rate(2) = ZERO ! ft0/GfI, c0/GfII; zero without softening
     real(c_double) :: nv(2, 3) = ZERO, mv(2, 3) = ZERO, cm(2, 3) = ZERO ! n_a, m_a, C m_a
+    ! The compressive cap (model.md, "Compressive cap"): Css, and sbar(k3) through
+    ! sp = fc, si = fc/3, sm = fc/2, sr = fc/10, kp, km, mm; soft: Gfc given (else
+    ! sbar = fc, perfectly plastic).
+    logical :: cap = .false., soft = .false.
+    real(c_double) :: css = ZERO, sp = ZERO, si = ZERO, sm = ZERO, sr = ZERO, kp = ZERO, km = ZERO, mm = ZERO
   end type law_t
 
   type :: candidate_t
     logical :: valid = .false., strict = .false., failed = .false.
     real(c_double) :: dl(3) = ZERO, r(2) = ZERO, k(2) = ZERO, t(2, 2) = ZERO
+    real(c_double) :: mu = ZERO, k3 = ZERO ! the cap's multiplier and k3 (cap_return)
   end type candidate_t
 
 contains
@@ -128,8 +139,9 @@ contains
     if (.not. (state(3) >= 0 .and. state(4) >= 0)) status = BW_LAW_BAD_STATE
   end function check_portion
 
-  pure subroutine make_law(par, law, status)
+  pure subroutine make_law(par, with_cap, law, status)
     real(c_double), intent(in) :: par(NPAR)
+    logical, intent(in) :: with_cap
     type(law_t), intent(out) :: law
     integer(c_int), intent(out) :: status
     integer :: i
@@ -150,11 +162,79 @@ contains
       if (par(IGFI + i - 1) > 0 .and. law%s0(i) > 0) law%rate(i) = law%s0(i) / par(IGFI + i - 1)
       if (.not. finite(law%rate(i))) status = BW_LAW_BAD_STRENGTH
     end do
+    if (with_cap) call make_cap(par, law, status)
     law%nv = reshape([ZERO, ONE, ONE, law%tphi, -ONE, law%tphi], [2, 3])
     law%mv = reshape([ZERO, ONE, ONE, law%tpsi, -ONE, law%tpsi], [2, 3])
     law%cm(1, :) = law%kt * law%mv(1, :)
     law%cm(2, :) = law%kn * law%mv(2, :)
   end subroutine make_law
+
+  ! The cap's parameters: fc > 0, Css > 0, and with Gfc > 0 the peak plastic jump
+  ! kappa_p > 0 (model.md, "Compressive cap"). km - kp = 75 Gfc/(67 fc) makes the area
+  ! between sbar and sr past the peak Gfc.
+  pure subroutine make_cap(par, law, status)
+    real(c_double), intent(in) :: par(NPAR)
+    type(law_t), intent(inout) :: law
+    integer(c_int), intent(inout) :: status
+    if (.not. (par(IFC) > 0 .and. finite(par(IFC)) .and. par(ICSS) > 0 .and. finite(par(ICSS)) &
+         .and. finite(par(IGFC)) .and. finite(par(IKP)))) then
+      status = BW_LAW_BAD_STRENGTH
+      return
+    end if
+    law%cap = .true.
+    law%css = par(ICSS)
+    law%sp = par(IFC)
+    law%si = par(IFC) / 3
+    law%sm = par(IFC) / 2
+    law%sr = par(IFC) / 10
+    law%soft = par(IGFC) > 0
+    if (.not. law%soft) return
+    if (.not. (par(IKP) > 0)) then
+      status = BW_LAW_BAD_STRENGTH
+      return
+    end if
+    law%kp = par(IKP)
+    law%km = law%kp + 75 * par(IGFC) / (67 * par(IFC))
+    law%mm = 2 * (law%sm - law%sp) / (law%km - law%kp)
+  end subroutine make_cap
+
+  ! sbar(k3) and its derivative: hardening on an ellipse from si to sp at kp, a
+  ! parabola down to sm at km, an exponential to sr, their slopes matching at km.
+  pure subroutine cap_strength(law, k, s, ds)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: k
+    real(c_double), intent(out) :: s, ds
+    real(c_double) :: q, w
+    if (.not. law%soft) then
+      s = law%sp
+      ds = ZERO
+    else if (k <= law%kp) then
+      q = max(k / law%kp, ZERO)
+      w = sqrt(max(2 * q - q * q, ZERO))
+      s = law%si + (law%sp - law%si) * w
+      ! infinite at k = 0, where no converged cap state lies (k3 > 0 once it flows)
+      ds = huge(ONE)
+      if (w > 0) ds = (law%sp - law%si) * (ONE - q) / (law%kp * w)
+    else if (k <= law%km) then
+      q = (k - law%kp) / (law%km - law%kp)
+      s = law%sp + (law%sm - law%sp) * q * q
+      ds = 2 * (law%sm - law%sp) * q / (law%km - law%kp)
+    else
+      w = exp(max(law%mm * (k - law%km) / (law%sm - law%sr), -MAXEXP))
+      s = law%sr + (law%sm - law%sr) * w
+      ds = law%mm * w
+    end if
+  end subroutine cap_strength
+
+  ! f3 in stress units, Q - sbar with Q = sqrt(rn^2 + Css rt^2): the same surface as
+  ! model.md's rn^2 + Css rt^2 - sbar^2, measured like the other surfaces.
+  pure function cap_surface(law, r, k3) result(f)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: r(2), k3
+    real(c_double) :: f, s, ds
+    call cap_strength(law, k3, s, ds)
+    f = sqrt(r(2)**2 + law%css * r(1)**2) - s
+  end function cap_surface
 
   pure function strength(law, k) result(s)
     type(law_t), intent(in) :: law
@@ -535,6 +615,318 @@ contains
     mode = 0_c_signed_char
   end subroutine coulomb_portion
 
+  ! ---- The compressive cap (law coulomb_cap) -------------------------------------
+  ! f3 = Q - sbar(k3) <= 0, Q = sqrt(rn^2 + Css rt^2), associated flow: with the
+  ! multiplier mu of model.md's form rn^2 + Css rt^2 - sbar^2, d jpl = 2 mu (Css rt, rn)
+  ! and dk3 = 2 mu P, P = sqrt(Css^2 rt^2 + rn^2), the length of the plastic jump. For a
+  ! given mu the return is explicit,
+  !   rt = (rt_tr - kt s x) / (1 + 2 mu kt Css),  rn = (rn_tr - kn tanpsi x) / (1 + 2 mu kn),
+  ! with x the multiplier of the Coulomb half s = +-1 at a corner (x = 0 on the cap
+  ! alone), itself the root of the Coulomb equation at that mu (a bracketed scalar
+  ! equation, as for the cone alone). What remains is one scalar equation in mu,
+  ! g(mu) = Q(r(mu)) - sbar(k3 + 2 mu P) = 0, positive at mu = 0 where the cap is
+  ! violated and negative once the stress has shrunk below sbar's least value: bracketed
+  ! and solved by regula falsi (Illinois), robust where sbar'(k3) is infinite (the start
+  ! of hardening) or negative (softening). The consistent tangent differentiates the
+  ! full local system in (r, mu[, x]) implicitly (cap_tangent).
+
+  ! The return at the cap multiplier mu with the partner surfaces `set` (0: none; 1 the
+  ! cut-off, 2, 3 the cone's halves; [1, 2|3] the triple corner). At a given mu the
+  ! stress is that of a law with stiffness diag(kt/at, kn/an) from the trial
+  ! (rt_tr/at, rn_tr/an): the partners' return is single_return's scalar equation, or
+  ! pair_return's corner, for that law.
+  pure subroutine cap_point(law, rtr, kin, set, mu, sig, r, dl, k3, g, ok)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), kin(3), mu, sig
+    integer, intent(in) :: set(2)
+    real(c_double), intent(out) :: r(2), dl(3), k3, g
+    logical, intent(out) :: ok
+    real(c_double) :: at, an, g0, nca, s, ds, x, rs(2)
+    type(law_t) :: scaled
+    type(candidate_t) :: pair
+    integer :: i, a
+    logical :: dependent
+    at = ONE + 2 * mu * law%kt * law%css
+    an = ONE + 2 * mu * law%kn
+    rs = [rtr(1) / at, rtr(2) / an]
+    dl = ZERO
+    ok = .true.
+    r = rs
+    a = set(1)
+    if (set(2) > 0) then
+      scaled = law
+      scaled%kt = law%kt / at
+      scaled%kn = law%kn / an
+      scaled%cm(1, :) = scaled%kt * law%mv(1, :)
+      scaled%cm(2, :) = scaled%kn * law%mv(2, :)
+      call pair_return(scaled, rs, kin(1:2), sig, set, pair, dependent)
+      ok = .not. (dependent .or. pair%failed)
+      if (.not. ok) return
+      dl = pair%dl
+      r = pair%r
+    else if (a > 0) then
+      g0 = law%nv(1, a) * rs(1) + law%nv(2, a) * rs(2)
+      nca = law%nv(1, a) * law%cm(1, a) / at + law%nv(2, a) * law%cm(2, a) / an
+      i = KVAR(a)
+      call scalar_root(g0, nca, law%s0(i), law%rate(i), kin(i), ZERO, sig, x, ok)
+      dl(a) = x
+      r = [(rtr(1) - law%cm(1, a) * x) / at, (rtr(2) - law%cm(2, a) * x) / an]
+    end if
+    k3 = kin(3) + 2 * mu * sqrt((law%css * r(1))**2 + r(2)**2)
+    call cap_strength(law, k3, s, ds)
+    g = sqrt(r(2)**2 + law%css * r(1)**2) - s
+  end subroutine cap_point
+
+  ! Gaussian elimination with partial pivoting: a x = b for the local systems (n <= 4).
+  pure subroutine solve_small(n, a, b, x, ok)
+    integer, intent(in) :: n
+    real(c_double), intent(in) :: a(n, n), b(n, 2)
+    real(c_double), intent(out) :: x(n, 2)
+    logical, intent(out) :: ok
+    real(c_double) :: m(n, n + 2), row(n + 2), scale
+    integer :: i, j, p
+    m(:, 1:n) = a
+    m(:, n + 1:n + 2) = b
+    scale = maxval(abs(a))
+    ok = scale > 0 .and. scale <= huge(scale)
+    x = ZERO
+    if (.not. ok) return
+    do j = 1, n
+      p = j - 1 + maxloc(abs(m(j:n, j)), 1)
+      if (.not. (abs(m(p, j)) > 1.0e-300_c_double * scale)) then
+        ok = .false.
+        return
+      end if
+      if (p /= j) then
+        row = m(j, :)
+        m(j, :) = m(p, :)
+        m(p, :) = row
+      end if
+      do i = j + 1, n
+        m(i, j:) = m(i, j:) - m(i, j) / m(j, j) * m(j, j:)
+      end do
+    end do
+    do i = n, 1, -1
+      x(i, :) = (m(i, n + 1:n + 2) - matmul(m(i, i + 1:n), x(i + 1:n, :))) / m(i, i)
+    end do
+    ok = all(abs(x) <= huge(ONE))
+  end subroutine solve_small
+
+  ! dr/dj of a return on the cap with the partners `set`: the residuals
+  !   C^-1 r - (j - jpl_n) + mu grad(Q^2) + sum_b x_b m_b = 0,  Q - sbar(k3) = 0,
+  !   n_b.r - s_b(k_b) = 0 (b in set),
+  ! with k3 = k3_n + 2 mu P(r), differentiated in (r, mu, x_b); their derivative in j is
+  ! (-I; 0), so dr/dj is the (r, r) block of the inverse Jacobian.
+  pure subroutine cap_tangent(law, set, r, mu, k, k3, t, ok)
+    type(law_t), intent(in) :: law
+    integer, intent(in) :: set(2)
+    real(c_double), intent(in) :: r(2), mu, k(2), k3
+    real(c_double), intent(out) :: t(2, 2)
+    logical, intent(out) :: ok
+    real(c_double) :: jac(5, 5), rhs(5, 2), z(5, 2), q, p, s, ds, dk(2)
+    integer :: n, i, j
+    n = 3 + count(set > 0)
+    jac = ZERO
+    rhs = ZERO
+    rhs(1, 1) = ONE
+    rhs(2, 2) = ONE
+    q = sqrt(r(2)**2 + law%css * r(1)**2)
+    p = sqrt((law%css * r(1))**2 + r(2)**2)
+    call cap_strength(law, k3, s, ds)
+    jac(1, 1) = ONE / law%kt + 2 * mu * law%css
+    jac(2, 2) = ONE / law%kn + 2 * mu
+    jac(1:2, 3) = 2 * [law%css * r(1), r(2)]
+    jac(3, 1:2) = [law%css * r(1), r(2)] / q - ds * 2 * mu * [law%css**2 * r(1), r(2)] / p
+    jac(3, 3) = -ds * 2 * p
+    dk = dstrength(law, k)
+    do i = 1, n - 3
+      jac(1:2, 3 + i) = law%mv(:, set(i))
+      jac(3 + i, 1:2) = law%nv(:, set(i))
+      do j = 1, n - 3
+        if (KVAR(set(i)) == KVAR(set(j))) jac(3 + i, 3 + j) = -dk(KVAR(set(i)))
+      end do
+    end do
+    call solve_small(n, jac(1:n, 1:n), rhs(1:n, :), z(1:n, :), ok)
+    t = z(1:2, 1:2)
+  end subroutine cap_tangent
+
+  ! The least g of cap_point on [a, b] (golden section, 60 steps: 1e-12 of the interval).
+  pure subroutine cap_dip(law, rtr, kin, set, a, b, sig, m, g)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), kin(3), a, b, sig
+    integer, intent(in) :: set(2)
+    real(c_double), intent(out) :: m, g
+    real(c_double), parameter :: GOLD = 0.6180339887498949_c_double
+    real(c_double) :: lo, hi, x1, x2, g1, g2, r(2), dl(3), k3
+    integer :: it
+    logical :: ok
+    lo = a
+    hi = b
+    x1 = hi - GOLD * (hi - lo)
+    x2 = lo + GOLD * (hi - lo)
+    call cap_point(law, rtr, kin, set, x1, sig, r, dl, k3, g1, ok)
+    call cap_point(law, rtr, kin, set, x2, sig, r, dl, k3, g2, ok)
+    do it = 1, 60
+      if (g1 < 0 .or. g2 < 0) exit
+      if (g1 <= g2) then
+        hi = x2
+        x2 = x1
+        g2 = g1
+        x1 = hi - GOLD * (hi - lo)
+        call cap_point(law, rtr, kin, set, x1, sig, r, dl, k3, g1, ok)
+      else
+        lo = x1
+        x1 = x2
+        g1 = g2
+        x2 = lo + GOLD * (hi - lo)
+        call cap_point(law, rtr, kin, set, x2, sig, r, dl, k3, g2, ok)
+      end if
+    end do
+    m = x1
+    g = g1
+    if (g2 < g1) then
+      m = x2
+      g = g2
+    end if
+  end subroutine cap_dip
+
+  ! A return on the cap with the partners `set` (cap_point).
+  pure function cap_return(law, rtr, kin, sig, set) result(cand)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), kin(3), sig
+    integer, intent(in) :: set(2)
+    type(candidate_t) :: cand
+    real(c_double) :: lo, hi, m, glo, ghi, g, r(2), dl(3), k3, smin, f(3), prev, gprev
+    integer :: it, side
+    logical :: ok
+    cand%failed = .true.
+    call cap_point(law, rtr, kin, set, ZERO, sig, r, dl, k3, glo, ok)
+    if (.not. (ok .and. glo > RTOL * sig)) return
+    ! The first root: sbar first hardens, then softens, so g may cross zero three times
+    ! (on the cap, then off it while sbar softens faster than the stress shrinks, then on
+    ! it again past the residual); the least plastic flow is the first crossing. Scanned
+    ! upwards in factors of 4 from 1e-9 of the multiplier that shrinks the stress below
+    ! sbar's least value, where the first sign change brackets it.
+    ! At a corner g can also dip below zero and rise again between two points of the scan
+    ! (past the corner the partner's multiplier turns negative and its surface holds the
+    ! stress off the cap): where g rises, its least value between the last three points
+    ! is sought (golden section) and, if negative, ends the bracket.
+    smin = law%sp
+    if (law%soft) smin = law%sr
+    lo = ZERO
+    prev = ZERO
+    gprev = glo
+    hi = 1.0e-9_c_double * max(sqrt(rtr(2)**2 + law%css * rtr(1)**2) / smin, ONE) / (2 * min(law%kt * law%css, law%kn))
+    do it = 1, 200
+      call cap_point(law, rtr, kin, set, hi, sig, r, dl, k3, ghi, ok)
+      if (.not. ok) return
+      if (ghi < 0) exit
+      if (ghi > glo .and. set(1) > 0) then
+        call cap_dip(law, rtr, kin, set, prev, hi, sig, m, g)
+        if (g < 0) then
+          lo = prev
+          glo = gprev
+          hi = m
+          ghi = g
+          exit
+        end if
+      end if
+      prev = lo
+      gprev = glo
+      lo = hi
+      glo = ghi
+      hi = 4 * hi
+    end do
+    if (.not. (ghi < 0)) return
+    side = 0
+    m = lo
+    g = glo
+    do it = 1, 4 * MAXIT
+      m = (lo * ghi - hi * glo) / (ghi - glo)
+      if (.not. (m > lo .and. m < hi)) m = HALF * (lo + hi)
+      call cap_point(law, rtr, kin, set, m, sig, r, dl, k3, g, ok)
+      if (.not. ok) return
+      if (abs(g) <= RTOL * sig .or. hi - lo <= 4 * epsilon(hi) * hi) exit
+      if (g < 0) then
+        hi = m
+        ghi = g
+        if (side == -1) glo = HALF * glo
+        side = -1
+      else
+        lo = m
+        glo = g
+        if (side == 1) ghi = HALF * ghi
+        side = 1
+      end if
+    end do
+    if (.not. (abs(g) <= 100 * RTOL * sig)) return
+    cand%failed = .false.
+    cand%r = r
+    cand%mu = m
+    cand%k3 = k3
+    cand%dl = dl
+    cand%k = advance(kin(1:2), cand%dl)
+    call cap_tangent(law, set, r, m, cand%k, k3, cand%t, ok)
+    cand%failed = .not. ok
+    f = surfaces(law, r, cand%k)
+    cand%valid = all(dl * min(law%kt, law%kn) >= -ATOL * sig) .and. all(f <= ATOL * sig)
+  end function cap_return
+
+  ! The cut-off and Coulomb return (coulomb_portion), then the cap where that stress
+  ! lies outside it: the cap alone, else its corner with the Coulomb half the trial
+  ! shear points to, else its corner with the cut-off, else the point where all three
+  ! meet (met where the cap is small against the cone: once it has softened towards
+  ! fc/10, sr/sqrt(Css) is about c for masonry, and the cap cuts the cone near rn = 0).
+  ! Mode bits: 1 cut-off, 2 Coulomb, 4 cap.
+  pure subroutine portion_2d(law, state, jump, r, t, state_new, mode, status)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: state(NSTATE_2D), jump(2)
+    real(c_double), intent(out) :: r(2), t(2, 2), state_new(NSTATE_2D)
+    integer(c_signed_char), intent(out) :: mode
+    integer(c_int), intent(out) :: status
+    type(candidate_t) :: cand
+    real(c_double) :: rtr(2), s(2), sbar, dsbar, sig, f3, f(3)
+    integer :: a, h, bits, order(2, 4)
+    call coulomb_portion(law, state(1:NSTATE), jump, r, t, state_new(1:NSTATE), mode, status)
+    state_new(IK3) = state(IK3)
+    if (.not. law%cap .or. status /= BW_LAW_OK) return
+    rtr = [law%kt * (jump(1) - state(1)), law%kn * (jump(2) - state(2))]
+    s = strength(law, state(3:4))
+    call cap_strength(law, state(IK3), sbar, dsbar)
+    sig = max(abs(rtr(1)) * max(ONE, sqrt(law%css)), abs(rtr(2)) * max(ONE, law%tphi), s(1), s(2), sbar)
+    f3 = cap_surface(law, r, state(IK3))
+    if (f3 <= RTOL * sig) then
+      ! a plastic return of the cut-off or cone that ends on the cap too (elastic trials
+      ! on the cap stay mode 0, as on the other surfaces)
+      if (mode /= 0 .and. f3 >= -ATOL * sig) mode = ior(mode, 4_c_signed_char)
+      return
+    end if
+    ! the cap alone, its corner with the cone's half the trial shear points to, with the
+    ! cut-off, and the three together
+    h = merge(2, 3, rtr(1) >= 0)
+    order = reshape([0, 0, h, 0, 1, 0, 1, h], [2, 4])
+    do a = 1, 4
+      cand = cap_return(law, rtr, state(3:5), sig, order(:, a))
+      if (cand%failed .or. .not. cand%valid) cycle
+      r = cand%r
+      t = cand%t
+      state_new(1:2) = jump - [r(1) / law%kt, r(2) / law%kn]
+      state_new(3:4) = advance(state(3:4), max(cand%dl, ZERO))
+      state_new(IK3) = cand%k3
+      f = surfaces(law, r, state_new(3:4))
+      bits = 4
+      if (f(1) >= -ATOL * sig) bits = bits + 1
+      if (max(f(2), f(3)) >= -ATOL * sig) bits = bits + 2
+      mode = int(bits, c_signed_char)
+      return
+    end do
+    status = BW_LAW_NOT_CONVERGED
+    r = rtr
+    t = ZERO
+    state_new = state
+    mode = 0_c_signed_char
+  end subroutine portion_2d
+
   ! Three stress components (rt, rn, rb), tau = (rt, rb), shear isotropic (kt along t
   ! and b): the circular cone |tau| + rn tanphi <= c with the flow tau/|tau| (model.md,
   ! "Three dimensions"). Every surface depends on tau through |tau| only and every flow
@@ -548,20 +940,21 @@ contains
   ! (T the 2D consistent tangent with respect to (s/kt, jn); the second term is the
   ! shrinking of the circle, de/d j_tau = kt (I - e e^T)/s). At s = 0 the direction is
   ! undefined and rt'/s is replaced by its limit T11/kt. State: (slip_t, opening, k1,
-  ! k2, slip_b): the 2D state with the b slip last.
-  pure subroutine coulomb_portion_3d(law, state, jump, r, t, state_new, mode, status)
+  ! k2, k3, slip_b): the 2D state with the b slip last. The cap is radial in tau too
+  ! (Q = sqrt(rn^2 + Css |tau|^2), flow (Css tau, rn)), so the same reduction carries it.
+  pure subroutine portion_3d(law, state, jump, r, t, state_new, mode, status)
     type(law_t), intent(in) :: law
-    real(c_double), intent(in) :: state(NSTATE + 1), jump(3)
-    real(c_double), intent(out) :: r(3), t(3, 3), state_new(NSTATE + 1)
+    real(c_double), intent(in) :: state(NSTATE_2D + 1), jump(3)
+    real(c_double), intent(out) :: r(3), t(3, 3), state_new(NSTATE_2D + 1)
     integer(c_signed_char), intent(out) :: mode
     integer(c_int), intent(out) :: status
-    real(c_double) :: tau(2), s, e(2), state2(NSTATE), state2_new(NSTATE), r2(2), t2(2, 2), ratio, pe(2, 2)
-    tau = law%kt * [jump(1) - state(1), jump(3) - state(NSTATE + 1)]
+    real(c_double) :: tau(2), s, e(2), state2(NSTATE_2D), state2_new(NSTATE_2D), r2(2), t2(2, 2), ratio, pe(2, 2)
+    tau = law%kt * [jump(1) - state(1), jump(3) - state(ISLIPB)]
     s = norm2(tau)
     e = [ONE, ZERO]
     if (s > 0) e = tau / s
-    state2 = [ZERO, state(2), state(3), state(4)]
-    call coulomb_portion(law, state2, [s / law%kt, jump(2)], r2, t2, state2_new, mode, status)
+    state2 = [ZERO, state(2:NSTATE_2D)]
+    call portion_2d(law, state2, [s / law%kt, jump(2)], r2, t2, state2_new, mode, status)
     if (status /= BW_LAW_OK) then
       r = [tau(1), r2(2), tau(2)]
       t = ZERO
@@ -570,8 +963,7 @@ contains
     end if
     r = [r2(1) * e(1), r2(2), r2(1) * e(2)]
     ! the plastic slip of this step along e: exactly zero when nothing flows
-    state_new = [state(1) + state2_new(1) * e(1), state2_new(2), state2_new(3), state2_new(4), &
-         state(NSTATE + 1) + state2_new(1) * e(2)]
+    state_new = [state(1) + state2_new(1) * e(1), state2_new(2:NSTATE_2D), state(ISLIPB) + state2_new(1) * e(2)]
     ratio = t2(1, 1) / law%kt
     if (s > 0) ratio = r2(1) / s
     pe = spread(e, 2, 2) * spread(e, 1, 2)
@@ -579,9 +971,9 @@ contains
     t(1, :) = [pe(1, 1), t2(1, 2) * e(1), pe(1, 2)]
     t(2, :) = [t2(2, 1) * e(1), t2(2, 2), t2(2, 1) * e(2)]
     t(3, :) = [pe(2, 1), t2(1, 2) * e(2), pe(2, 2)]
-  end subroutine coulomb_portion_3d
+  end subroutine portion_3d
 
-  ! ns stress components (2: rt, rn; 3: rt, rn, rb) and ns + 2 state entries.
+  ! ns stress components (2: rt, rn; 3: rt, rn, rb) and ns + 3 state entries.
   pure function check_size(ns) result(status)
     integer(c_int), intent(in) :: ns
     integer(c_int) :: status
@@ -589,17 +981,18 @@ contains
     if (ns /= 2 .and. ns /= 3) status = BW_LAW_BAD_SIZE
   end function check_size
 
-  ! The jump's and the state's finiteness, k1, k2 >= 0; the b slip of 3D is checked
-  ! with the rest.
+  ! The jump's and the state's finiteness, k1, k2, k3 >= 0; the b slip of 3D is
+  ! checked with the rest.
   pure function check_portion_ns(ns, state, jump) result(status)
     integer(c_int), intent(in) :: ns
     real(c_double), intent(in) :: state(:), jump(:)
     integer(c_int) :: status
     status = check_portion(state(1:NSTATE), jump(1:2))
     if (status /= BW_LAW_OK) return
+    if (.not. (finite(state(IK3)) .and. state(IK3) >= 0)) status = BW_LAW_BAD_STATE
     if (ns == 3) then
       if (.not. finite(jump(3))) status = BW_LAW_BAD_JUMP
-      if (status == BW_LAW_OK .and. .not. finite(state(NSTATE + 1))) status = BW_LAW_BAD_STATE
+      if (status == BW_LAW_OK .and. .not. finite(state(ISLIPB))) status = BW_LAW_BAD_STATE
     end if
   end function check_portion_ns
 
@@ -607,8 +1000,8 @@ contains
   pure subroutine bw_law_elastic(ns, n, par, state_in, jump, stress, tangent, state_out, mode, status) &
        bind(C, name="bw_law_elastic")
     integer(c_int), value, intent(in) :: ns, n
-    real(c_double), intent(in) :: par(NPAR), state_in(ns + 2, n), jump(ns, n)
-    real(c_double), intent(out) :: stress(ns, n), tangent(ns * ns, n), state_out(ns + 2, n)
+    real(c_double), intent(in) :: par(NPAR), state_in(ns + 3, n), jump(ns, n)
+    real(c_double), intent(out) :: stress(ns, n), tangent(ns * ns, n), state_out(ns + 3, n)
     integer(c_signed_char), intent(out) :: mode(n)
     integer(c_int), intent(out) :: status
     real(c_double) :: c(3), jpl(3)
@@ -622,7 +1015,7 @@ contains
       status = check_portion_ns(ns, state_in(:, p), jump(:, p))
       if (status /= BW_LAW_OK) return
       jpl(1:2) = state_in(1:2, p)
-      if (ns == 3) jpl(3) = state_in(NSTATE + 1, p)
+      if (ns == 3) jpl(3) = state_in(ISLIPB, p)
       stress(:, p) = c(1:ns) * (jump(:, p) - jpl(1:ns))
       tangent(:, p) = ZERO
       do a = 1, ns
@@ -633,13 +1026,12 @@ contains
     end do
   end subroutine bw_law_elastic
 
-  !> Tension cut-off and Coulomb friction with softening: the return mapping above,
-  !> in 3D on the meridian plane of the circular cone.
-  pure subroutine bw_law_coulomb(ns, n, par, state_in, jump, stress, tangent, state_out, mode, status) &
-       bind(C, name="bw_law_coulomb")
-    integer(c_int), value, intent(in) :: ns, n
-    real(c_double), intent(in) :: par(NPAR), state_in(ns + 2, n), jump(ns, n)
-    real(c_double), intent(out) :: stress(ns, n), tangent(ns * ns, n), state_out(ns + 2, n)
+  ! The nonlinear laws, with or without the cap.
+  pure subroutine plastic_kernel(with_cap, ns, n, par, state_in, jump, stress, tangent, state_out, mode, status)
+    logical, intent(in) :: with_cap
+    integer(c_int), intent(in) :: ns, n
+    real(c_double), intent(in) :: par(NPAR), state_in(ns + 3, n), jump(ns, n)
+    real(c_double), intent(out) :: stress(ns, n), tangent(ns * ns, n), state_out(ns + 3, n)
     integer(c_signed_char), intent(out) :: mode(n)
     integer(c_int), intent(out) :: status
     type(law_t) :: law
@@ -647,20 +1039,43 @@ contains
     integer(c_int) :: p
     status = check_size(ns)
     if (status /= BW_LAW_OK) return
-    call make_law(par, law, status)
+    call make_law(par, with_cap, law, status)
     if (status /= BW_LAW_OK) return
     do p = 1, n
       status = check_portion_ns(ns, state_in(:, p), jump(:, p))
       if (status /= BW_LAW_OK) return
       if (ns == 2) then
-        call coulomb_portion(law, state_in(:, p), jump(:, p), stress(:, p), t, state_out(:, p), mode(p), status)
+        call portion_2d(law, state_in(:, p), jump(:, p), stress(:, p), t, state_out(:, p), mode(p), status)
         tangent(:, p) = [t(1, 1), t(1, 2), t(2, 1), t(2, 2)]
       else
-        call coulomb_portion_3d(law, state_in(:, p), jump(:, p), stress(:, p), t3, state_out(:, p), mode(p), status)
+        call portion_3d(law, state_in(:, p), jump(:, p), stress(:, p), t3, state_out(:, p), mode(p), status)
         tangent(:, p) = reshape(transpose(t3), [9])
       end if
       if (status /= BW_LAW_OK) return
     end do
+  end subroutine plastic_kernel
+
+  !> Tension cut-off and Coulomb friction with softening: the return mapping above,
+  !> in 3D on the meridian plane of the circular cone. The cap's parameters are not read.
+  pure subroutine bw_law_coulomb(ns, n, par, state_in, jump, stress, tangent, state_out, mode, status) &
+       bind(C, name="bw_law_coulomb")
+    integer(c_int), value, intent(in) :: ns, n
+    real(c_double), intent(in) :: par(NPAR), state_in(ns + 3, n), jump(ns, n)
+    real(c_double), intent(out) :: stress(ns, n), tangent(ns * ns, n), state_out(ns + 3, n)
+    integer(c_signed_char), intent(out) :: mode(n)
+    integer(c_int), intent(out) :: status
+    call plastic_kernel(.false., ns, n, par, state_in, jump, stress, tangent, state_out, mode, status)
   end subroutine bw_law_coulomb
+
+  !> The same with the compressive cap (model.md, "Compressive cap").
+  pure subroutine bw_law_coulomb_cap(ns, n, par, state_in, jump, stress, tangent, state_out, mode, status) &
+       bind(C, name="bw_law_coulomb_cap")
+    integer(c_int), value, intent(in) :: ns, n
+    real(c_double), intent(in) :: par(NPAR), state_in(ns + 3, n), jump(ns, n)
+    real(c_double), intent(out) :: stress(ns, n), tangent(ns * ns, n), state_out(ns + 3, n)
+    integer(c_signed_char), intent(out) :: mode(n)
+    integer(c_int), intent(out) :: status
+    call plastic_kernel(.true., ns, n, par, state_in, jump, stress, tangent, state_out, mode, status)
+  end subroutine bw_law_coulomb_cap
 
 end module bw_joint_law_kernels

@@ -31,6 +31,7 @@ static PetscErrorCode BwJointLawRegisterAll(void)
   PetscCall(BwJointLawRegister("dry", BwJointLawElastic_Dry));
   PetscCall(BwJointLawKernelRegister("elastic", bw_law_elastic));
   PetscCall(BwJointLawKernelRegister("coulomb", bw_law_coulomb));
+  PetscCall(BwJointLawKernelRegister("coulomb_cap", bw_law_coulomb_cap));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -47,6 +48,8 @@ PetscErrorCode BwJointLawCreate(BwJointLaw *law)
   (*law)->par[BW_LAW_PAR_KT]    = 4.0e10;
   (*law)->par[BW_LAW_PAR_GFI]   = -1;
   (*law)->par[BW_LAW_PAR_GFII]  = -1;
+  (*law)->par[BW_LAW_PAR_CSS]   = 9.0;
+  (*law)->par[BW_LAW_PAR_GFC]   = -1;
   (*law)->kernel                = bw_law_elastic;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -66,20 +69,25 @@ static PetscErrorCode BwLawKey(BwJointLaw law, const char key[], char opt[], siz
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* joints.*.strength: tension cut-off, Coulomb friction, softening. */
+/* joints.*.strength: tension cut-off, Coulomb friction, softening, and the
+ * compressive cap (model.md, "Compressive cap"). */
+#define BW_STRENGTH_NKEYS 10
 static PetscErrorCode BwJointLawStrength(BwJointLaw law, BwScene scene)
 {
-  static const char *const keys[6]  = {"strength_tension", "strength_cohesion", "strength_friction", "strength_dilatancy", "strength_tension_energy", "strength_shear_energy"};
-  static const int         index[6] = {BW_LAW_PAR_FT, BW_LAW_PAR_C, BW_LAW_PAR_TANPHI, BW_LAW_PAR_TANPSI, BW_LAW_PAR_GFI, BW_LAW_PAR_GFII};
-  static const char *const help[6]  = {"Tensile strength ft >= 0 [Pa] (0: no tension)", "Cohesion c >= 0 [Pa]", "Friction coefficient tan(phi) >= 0", "Dilatancy tan(psi), 0 <= tan(psi) <= tan(phi)", "Mode I fracture energy GfI > 0 [J/m^2]: exponential softening of ft", "Mode II fracture energy GfII > 0 [J/m^2]: exponential softening of c"};
-  char                     opt[6][128], mapping[128];
-  PetscBool                set[6], any = PETSC_FALSE;
-  PetscReal                v[6];
+  static const char *const keys[BW_STRENGTH_NKEYS]  = {"strength_tension", "strength_cohesion", "strength_friction", "strength_dilatancy", "strength_tension_energy", "strength_shear_energy", "strength_compression", "strength_compression_shear", "strength_compression_energy", "strength_compression_peak_plastic"};
+  static const int         index[BW_STRENGTH_NKEYS] = {BW_LAW_PAR_FT, BW_LAW_PAR_C, BW_LAW_PAR_TANPHI, BW_LAW_PAR_TANPSI, BW_LAW_PAR_GFI, BW_LAW_PAR_GFII, BW_LAW_PAR_FC, BW_LAW_PAR_CSS, BW_LAW_PAR_GFC, BW_LAW_PAR_KP};
+  /* what a strength block of its own leaves out */
+  static const PetscReal   plain[BW_STRENGTH_NKEYS] = {0, 0, 0, 0, -1, -1, 0, 9.0, -1, 0};
+  static const char *const help[BW_STRENGTH_NKEYS]  = {"Tensile strength ft >= 0 [Pa] (0: no tension)", "Cohesion c >= 0 [Pa]", "Friction coefficient tan(phi) >= 0", "Dilatancy tan(psi), 0 <= tan(psi) <= tan(phi)", "Mode I fracture energy GfI > 0 [J/m^2]: exponential softening of ft", "Mode II fracture energy GfII > 0 [J/m^2]: exponential softening of c", "Compressive strength fc > 0 [Pa]: the compressive cap (absent or 0: any compression)", "Shear term Css > 0 of the cap rn^2 + Css |tau|^2 <= sbar^2", "Compressive fracture energy Gfc > 0 [J/m^2]: hardening and softening of the cap (absent: perfectly plastic at fc)", "Plastic compression kappa_p > 0 [m] at the cap's peak (with compression_energy)"};
+  enum { FT, C, TANPHI, TANPSI, GFI, GFII, FC, CSS, GFC, KP };
+  char      opt[BW_STRENGTH_NKEYS][128], mapping[128];
+  PetscBool set[BW_STRENGTH_NKEYS], any = PETSC_FALSE;
+  PetscReal v[BW_STRENGTH_NKEYS], kn = law->par[BW_LAW_PAR_KN];
 
   PetscFunctionBeginUser;
   PetscCall(BwLawKey(law, "strength", mapping, sizeof(mapping)));
-  PetscCall(BwSceneRequireMapping(scene, mapping, "tension, cohesion, friction, dilatancy, tension_energy, shear_energy"));
-  for (int k = 0; k < 6; k++) {
+  PetscCall(BwSceneRequireMapping(scene, mapping, "tension, cohesion, friction, dilatancy, tension_energy, shear_energy, compression, compression_shear, compression_energy, compression_peak_plastic"));
+  for (int k = 0; k < BW_STRENGTH_NKEYS; k++) {
     PetscCall(BwLawKey(law, keys[k], opt[k], sizeof(opt[k])));
     v[k] = law->par[index[k]];
     PetscCall(BwSceneReal(scene, opt[k], help[k], &v[k], &set[k]));
@@ -88,22 +96,36 @@ static PetscErrorCode BwJointLawStrength(BwJointLaw law, BwScene scene)
   if (!any) PetscFunctionReturn(PETSC_SUCCESS); /* inherited as it is, or none */
   if (!law->strength) {
     /* a strength block of its own: what it does not give is the plain default */
-    for (int k = 0; k < 6; k++)
-      if (!set[k]) v[k] = k == 4 || k == 5 ? -1 : 0;
+    for (int k = 0; k < BW_STRENGTH_NKEYS; k++)
+      if (!set[k]) v[k] = plain[k];
   }
   for (int k = 0; k < 4; k++)
     if (!(v[k] >= 0)) PetscCall(BwSceneError(scene, opt[k], "must be >= 0, got %g", (double)v[k]));
-  if (!(v[3] <= v[2])) PetscCall(BwSceneError(scene, opt[3], "must not exceed the friction coefficient tan(phi) = %g, got %g", (double)v[2], (double)v[3]));
-  for (int k = 4; k < 6; k++)
+  if (!(v[TANPSI] <= v[TANPHI])) PetscCall(BwSceneError(scene, opt[TANPSI], "must not exceed the friction coefficient tan(phi) = %g, got %g", (double)v[TANPHI], (double)v[TANPSI]));
+  for (int k = GFI; k <= GFII; k++)
     if (set[k] && !(v[k] > 0)) PetscCall(BwSceneError(scene, opt[k], "must be > 0 (leave it out for no softening), got %g", (double)v[k]));
   /* A portion softens more steeply than it is stiff when ft^2/GfI >= kn:
    * its stress would snap back within one portion, which no return mapping
    * can follow (the kernel's local problem has no unique solution). */
-  if (v[4] > 0 && !(v[0] * v[0] / v[4] < law->par[BW_LAW_PAR_KN]))
-    PetscCall(BwSceneError(scene, opt[4], "must exceed ft^2/kn = %g J/m^2 (ft = %g Pa, kn = %g N/m^3), else a portion snaps back", (double)(v[0] * v[0] / law->par[BW_LAW_PAR_KN]), (double)v[0], (double)law->par[BW_LAW_PAR_KN]));
-  if (v[5] > 0 && !(v[1] * v[1] / v[5] < law->par[BW_LAW_PAR_KT]))
-    PetscCall(BwSceneError(scene, opt[5], "must exceed c^2/kt = %g J/m^2 (c = %g Pa, kt = %g N/m^3), else a portion snaps back", (double)(v[1] * v[1] / law->par[BW_LAW_PAR_KT]), (double)v[1], (double)law->par[BW_LAW_PAR_KT]));
-  for (int k = 0; k < 6; k++) law->par[index[k]] = v[k];
+  if (v[GFI] > 0 && !(v[FT] * v[FT] / v[GFI] < kn))
+    PetscCall(BwSceneError(scene, opt[GFI], "must exceed ft^2/kn = %g J/m^2 (ft = %g Pa, kn = %g N/m^3), else a portion snaps back", (double)(v[FT] * v[FT] / kn), (double)v[FT], (double)kn));
+  if (v[GFII] > 0 && !(v[C] * v[C] / v[GFII] < law->par[BW_LAW_PAR_KT]))
+    PetscCall(BwSceneError(scene, opt[GFII], "must exceed c^2/kt = %g J/m^2 (c = %g Pa, kt = %g N/m^3), else a portion snaps back", (double)(v[C] * v[C] / law->par[BW_LAW_PAR_KT]), (double)v[C], (double)law->par[BW_LAW_PAR_KT]));
+  /* The cap: fc > 0 turns it on; its other keys mean nothing without it. */
+  /* 0 turns off a cap a head or unit joint would inherit from joints.strength */
+  if (set[FC] && !(v[FC] >= 0 && PetscIsNormalReal(v[FC] + 1))) PetscCall(BwSceneError(scene, opt[FC], "must be > 0 (0 or left out: no cap), got %g", (double)v[FC]));
+  for (int k = CSS; k <= KP; k++) {
+    if (set[k] && !(v[FC] > 0)) PetscCall(BwSceneError(scene, opt[k], "applies only with a compressive strength (strength.compression)"));
+    if (set[k] && !(v[k] > 0 && PetscIsNormalReal(v[k]))) PetscCall(BwSceneError(scene, opt[k], "must be > 0, got %g", (double)v[k]));
+  }
+  if (v[FC] > 0 && v[GFC] > 0) {
+    if (!(v[KP] > 0)) PetscCall(BwSceneError(scene, opt[GFC], "needs strength.compression_peak_plastic (kappa_p > 0, the plastic compression at the cap's peak [m])"));
+    /* the softening parabola's steepest slope, 2 (sm - sp)/(km - kp) =
+     * -67 fc^2/(75 Gfc), must stay below kn, as for the cut-off above */
+    if (!(67 * v[FC] * v[FC] / (75 * v[GFC]) < kn))
+      PetscCall(BwSceneError(scene, opt[GFC], "must exceed 67 fc^2/(75 kn) = %g J/m^2 (fc = %g Pa, kn = %g N/m^3), else a portion snaps back in compression", (double)(67 * v[FC] * v[FC] / (75 * kn)), (double)v[FC], (double)kn));
+  }
+  for (int k = 0; k < BW_STRENGTH_NKEYS; k++) law->par[index[k]] = v[k];
   law->strength = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -145,7 +167,7 @@ PetscErrorCode BwJointLawSetFromOptions(BwJointLaw law, BwScene scene, const cha
   PetscCheck(elastic, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint law %s is not registered (%s)", law->type, names);
   PetscCall(elastic(law, scene, parent ? PETSC_TRUE : PETSC_FALSE));
   PetscCall(BwJointLawStrength(law, scene));
-  PetscCall(PetscStrncpy(law->kernel_name, law->strength ? "coulomb" : "elastic", sizeof(law->kernel_name)));
+  PetscCall(PetscStrncpy(law->kernel_name, !law->strength ? "elastic" : law->par[BW_LAW_PAR_FC] > 0 ? "coulomb_cap" : "coulomb", sizeof(law->kernel_name)));
   PetscCall(PetscFunctionListFind(BwJointLawKernelList, law->kernel_name, &law->kernel));
   PetscCheck(law->kernel, PETSC_COMM_SELF, PETSC_ERR_PLIB, "joint law kernel %s is not registered", law->kernel_name);
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -10,6 +10,8 @@
  *                                   cut-off, Coulomb friction with cohesion,
  *                                   dilatancy, exponential softening
  *                                   (model.md, "Nonlinear joints")
+ *                                   coulomb_cap (strength.compression given):
+ *                                   the same with the compressive cap
  * The kernels are pure Fortran (include/blockwall/laws.h); nothing outside
  * a law assumes a scalar kn or kt: assembly asks the law for the portions'
  * tangents. Another elastic parametrisation or strength law is one more
@@ -23,11 +25,11 @@ typedef void (*BwLawKernel)(int ns, int n, const double par[], const double stat
 typedef struct _n_BwJointLaw *BwJointLaw;
 struct _n_BwJointLaw {
   char        type[32];          /* elastic part: mortar | dry */
-  char        kernel_name[32];   /* elastic | coulomb */
+  char        kernel_name[32];   /* elastic | coulomb | coulomb_cap */
   char        prefix[64];        /* its keys: joints_, joints_head_, joints_unit_ */
   PetscReal   thickness;         /* e [m]: the gap between block faces (mortar: also kn = E/e) */
   PetscReal   E, nu;             /* mortar [Pa, -] */
-  PetscReal   par[BW_LAW_NPAR];  /* the kernel's parameters: kt, kn, ft, c, tan phi, tan psi, GfI, GfII */
+  PetscReal   par[BW_LAW_NPAR];  /* the kernel's parameters: kt, kn, ft, c, tan phi, tan psi, GfI, GfII, fc, Css, Gfc, kappa_p */
   PetscBool   strength;          /* joints.*.strength given: the law is nonlinear */
   BwLawKernel kernel;
 };

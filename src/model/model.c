@@ -221,6 +221,9 @@ PetscBool BwModelTangentSymmetric(BwModel model)
   for (int kind = 0; kind < BW_JOINT_NKINDS; kind++) {
     BwJointLaw law = model->law[kind];
     if (law && law->strength && law->par[BW_LAW_PAR_TANPSI] != law->par[BW_LAW_PAR_TANPHI]) return PETSC_FALSE;
+    /* a hardening or softening cap: k3 grows with the stress's direction, which
+     * the associated flow does not make symmetric */
+    if (law && law->strength && law->par[BW_LAW_PAR_FC] > 0 && law->par[BW_LAW_PAR_GFC] > 0) return PETSC_FALSE;
   }
   return PETSC_TRUE;
 }

@@ -4,7 +4,8 @@
 add_executable(test_laws ${CMAKE_CURRENT_LIST_DIR}/test_laws.c)
 target_link_libraries(test_laws PRIVATE blockwall_core)
 foreach(case elastic cutoff coulomb corner apex notension soft_mode1 soft_mode2 unload tangent property bad
-             cone3d extrude3d rotate3d property3d bad3d)
+             cone3d extrude3d rotate3d property3d bad3d
+             cap_uniaxial cap_property cap3d cap_bad)
   add_test(NAME unit.laws.${case} COMMAND test_laws ${case})
   set_tests_properties(unit.laws.${case} PROPERTIES LABELS "unit;nonlinear")
 endforeach()

@@ -25,9 +25,9 @@
 
 static PetscReal Rel(PetscReal a, PetscReal b) { return PetscAbsReal(a - b) / PetscMax(PetscAbsReal(b), 1e-300); }
 
-static PetscErrorCode Evaluate(BwJointLaw law, const PetscReal state[4], const PetscReal j[2], PetscReal r[2], PetscReal t[4], signed char *mode)
+static PetscErrorCode Evaluate(BwJointLaw law, const PetscReal state[BW_LAW_NSTATE], const PetscReal j[2], PetscReal r[2], PetscReal t[4], signed char *mode)
 {
-  PetscReal so[4];
+  PetscReal so[BW_LAW_NSTATE];
 
   PetscFunctionBeginUser;
   PetscCall(BwJointLawEvaluate(law, law->par, 2, 1, state, j, r, t, so, mode, "test"));
@@ -71,7 +71,7 @@ int main(int argc, char **argv)
   } else if (!strcmp(which, "coulomb")) {
     const PetscReal kn = bed->par[BW_LAW_PAR_KN], kt = bed->par[BW_LAW_PAR_KT], ft = bed->par[BW_LAW_PAR_FT], c = bed->par[BW_LAW_PAR_C];
     /* states: virgin, and with plastic history (softened strengths) */
-    const PetscReal states[2][4] = {{0, 0, 0, 0}, {2e-6, 3e-6, 3e-6, 2e-6}};
+    const PetscReal states[2][BW_LAW_NSTATE] = {{0, 0, 0, 0, 0}, {2e-6, 3e-6, 3e-6, 2e-6, 0}};
     /* jumps in the regimes: elastic, open, sliding +, sliding -, corner */
     const PetscReal jumps[5][2] = {{0.2 * c / kt, -0.5 * ft / kn}, {0.1 * c / kt, 3 * ft / kn}, {4 * c / kt, -2 * ft / kn}, {-4 * c / kt, -2 * ft / kn}, {3 * c / kt, 4 * ft / kn}};
     PetscInt        checked = 0, seen[4] = {0, 0, 0, 0};

@@ -23,6 +23,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "blockwall/laws.h"
 
@@ -76,6 +77,10 @@ static void set_par(double par[], double ft, double c, double tphi, double tpsi,
   par[BW_LAW_PAR_TANPSI] = tpsi;
   par[BW_LAW_PAR_GFI]    = gfI;
   par[BW_LAW_PAR_GFII]   = gfII;
+  par[BW_LAW_PAR_FC]     = 0; /* no cap */
+  par[BW_LAW_PAR_CSS]    = 9;
+  par[BW_LAW_PAR_GFC]    = -1;
+  par[BW_LAW_PAR_KP]     = 0;
 }
 
 static double strength(double s0, double gf, double k) { return gf > 0 ? s0 * exp(-s0 * k / gf) : s0; }
@@ -101,28 +106,29 @@ static double maxabs4(const double t[4])
 static void test_elastic(void)
 {
   /* Same floating-point operations as the kernels: 1e-15 relative is round-off. */
-  double       par[BW_LAW_NPAR], r[6], T[12], s_out[12];
+  enum { NS = BW_LAW_NSTATE };
+  double       par[BW_LAW_NPAR], r[6], T[12], s_out[3 * NS];
   signed char  mode[3];
   int          st;
-  const double s_in[12] = {1e-5, 2e-5, 3e-5, 4e-5, -2e-5, 0, 0, 1e-4, 0, 0, 0, 0};
+  const double s_in[3 * NS] = {1e-5, 2e-5, 3e-5, 4e-5, 0, -2e-5, 0, 0, 1e-4, 0, 0, 0, 0, 0, 0};
   const double j[6]     = {1.5e-5, 1e-5, -3e-5, 2e-6, 7e-7, -4e-7};
   set_par(par, 2e5, 3e5, 0.75, 0.2, 12, 50);
   bw_law_elastic(2, 3, par, s_in, j, r, T, s_out, mode, &st);
   CHECK(st == BW_LAW_OK, "elastic status %d", st);
   for (int p = 0; p < 3; p++) {
-    expect_close("elastic rt", r[2 * p], KT * (j[2 * p] - s_in[4 * p + SLIP]), 1e-15, KT * fabs(j[2 * p] - s_in[4 * p]));
-    expect_close("elastic rn", r[2 * p + 1], KN * (j[2 * p + 1] - s_in[4 * p + OPEN]), 1e-15, KN * fabs(j[2 * p + 1] - s_in[4 * p + 1]));
+    expect_close("elastic rt", r[2 * p], KT * (j[2 * p] - s_in[NS * p + SLIP]), 1e-15, KT * fabs(j[2 * p] - s_in[NS * p]));
+    expect_close("elastic rn", r[2 * p + 1], KN * (j[2 * p + 1] - s_in[NS * p + OPEN]), 1e-15, KN * fabs(j[2 * p + 1] - s_in[NS * p + 1]));
     CHECK(T[4 * p] == KT && T[4 * p + 1] == 0 && T[4 * p + 2] == 0 && T[4 * p + 3] == KN, "elastic tangent of portion %d", p);
-    CHECK(!memcmp(s_in + 4 * p, s_out + 4 * p, 4 * sizeof(double)) && mode[p] == 0, "elastic state of portion %d", p);
+    CHECK(!memcmp(s_in + NS * p, s_out + NS * p, NS * sizeof(double)) && mode[p] == 0, "elastic state of portion %d", p);
   }
   /* the plastic law inside its surfaces (intact, and softened with a plastic jump) */
   for (int p = 0; p < 3; p += 2) {
-    Ret o = law(par, s_in + 4 * p, j[2 * p] * 0.1 + s_in[4 * p], j[2 * p + 1] * 0.1 + s_in[4 * p + 1]);
+    Ret o = law(par, s_in + NS * p, j[2 * p] * 0.1 + s_in[NS * p], j[2 * p + 1] * 0.1 + s_in[NS * p + 1]);
     CHECK(o.status == 0 && o.mode == 0, "coulomb inside: status %d mode %d", o.status, o.mode);
-    expect_close("coulomb inside rt", o.r[0], KT * (j[2 * p] * 0.1 + s_in[4 * p] - s_in[4 * p]), 1e-15, fabs(o.r[0]));
-    expect_close("coulomb inside rn", o.r[1], KN * (j[2 * p + 1] * 0.1 + s_in[4 * p + 1] - s_in[4 * p + 1]), 1e-15, fabs(o.r[1]));
+    expect_close("coulomb inside rt", o.r[0], KT * (j[2 * p] * 0.1 + s_in[NS * p] - s_in[NS * p]), 1e-15, fabs(o.r[0]));
+    expect_close("coulomb inside rn", o.r[1], KN * (j[2 * p + 1] * 0.1 + s_in[NS * p + 1] - s_in[NS * p + 1]), 1e-15, fabs(o.r[1]));
     CHECK(o.T[0] == KT && o.T[1] == 0 && o.T[2] == 0 && o.T[3] == KN, "coulomb inside: tangent not C");
-    CHECK(!memcmp(o.s, s_in + 4 * p, sizeof(o.s)), "coulomb inside: state changed");
+    CHECK(!memcmp(o.s, s_in + NS * p, sizeof(o.s)), "coulomb inside: state changed");
   }
 }
 
@@ -434,7 +440,7 @@ static void test_tangent(void)
   double       par[BW_LAW_NPAR], asym, worst = 0;
   struct {
     const char *name;
-    double      ft, c, tphi, tpsi, gfI, gfII, s[4], dt, dn;
+    double      ft, c, tphi, tpsi, gfI, gfII, s[BW_LAW_NSTATE], dt, dn;
     int         mode;
     int         symmetric; /* 1: tangent symmetric (psi = phi), 0: not (psi != phi), -1: either */
   } cases[] = {
@@ -578,7 +584,7 @@ static void test_property(void)
 
 static void test_bad(void)
 {
-  double      par[BW_LAW_NPAR], good[BW_LAW_NPAR], s[8] = {0}, j[4] = {1e-5, 1e-5, 1e-5, 1e-5}, r[4], T[8], so[8];
+  double      par[BW_LAW_NPAR], good[BW_LAW_NPAR], s[2 * BW_LAW_NSTATE] = {0}, j[4] = {1e-5, 1e-5, 1e-5, 1e-5}, r[4], T[8], so[2 * BW_LAW_NSTATE];
   signed char mode[2];
   int         st;
   set_par(good, 2e5, 3e5, 0.75, 0.2, 12, 50);
@@ -623,14 +629,14 @@ static void test_bad(void)
   bw_law_coulomb(2, 2, good, s, j, r, T, so, mode, &st);
   CHECK(st == BW_LAW_BAD_JUMP, "infinite jump gave %d", st);
   j[3]                  = 1e-5;
-  s[4 + BW_LAW_STATE_K1] = -1e-6;
+  s[BW_LAW_NSTATE + BW_LAW_STATE_K1] = -1e-6;
   bw_law_coulomb(2, 2, good, s, j, r, T, so, mode, &st);
   CHECK(st == BW_LAW_BAD_STATE, "k1 < 0 gave %d", st);
-  s[4 + BW_LAW_STATE_K1]   = 0;
-  s[4 + BW_LAW_STATE_SLIP] = NAN;
+  s[BW_LAW_NSTATE + BW_LAW_STATE_K1]   = 0;
+  s[BW_LAW_NSTATE + BW_LAW_STATE_SLIP] = NAN;
   bw_law_coulomb(2, 2, good, s, j, r, T, so, mode, &st);
   CHECK(st == BW_LAW_BAD_STATE, "NaN slip gave %d", st);
-  s[4 + BW_LAW_STATE_SLIP] = 0;
+  s[BW_LAW_NSTATE + BW_LAW_STATE_SLIP] = 0;
   bw_law_coulomb(2, 2, good, s, j, r, T, so, mode, &st);
   CHECK(st == BW_LAW_OK, "good input gave %d", st);
 }
@@ -672,6 +678,7 @@ static double random_case(double par[], double s[], double j[3], int ns)
   s[OPEN] = 1e-4 * uniform();
   s[K1]   = uniform() < 0.3 ? 0 : 3 * lI * uniform();
   s[K2]   = uniform() < 0.3 ? 0 : 3 * lII * uniform();
+  s[BW_LAW_STATE_K3] = 0;
   if (ns == 3) s[SLIPB] = sl * sin(th);
   /* trial stress magnitude 1e4 .. 1e8 Pa in a random direction of (tau, rn) */
   j[0] = s[SLIP] + mag * cos(ang) * (ns == 3 ? cos(phi) : 1) / KT;
@@ -891,6 +898,278 @@ static void test_bad3d(void)
         "elastic 3D: r = (%g %g %g)", r[0], r[1], r[2]);
 }
 
+/* ------------------------------------------------------------------ the compressive cap (coulomb_cap) */
+
+static const double CAP_KN = 82e9, CAP_KT = 36e9; /* J4D's joints */
+
+/* sbar(k) of model.md ("Compressive cap"), written from its text, and its derivative */
+static double cap_sbar(double fc, double gfc, double kp, double k, double *ds)
+{
+  double sp = fc, si = fc / 3, sm = fc / 2, sr = fc / 10;
+  if (!(gfc > 0)) {
+    *ds = 0;
+    return fc;
+  }
+  double km = kp + 75 * gfc / (67 * fc), mm = 2 * (sm - sp) / (km - kp);
+  if (k <= kp) {
+    double w = sqrt(2 * k / kp - k * k / (kp * kp));
+    *ds = (sp - si) * (1 / kp - k / (kp * kp)) / w;
+    return si + (sp - si) * w;
+  }
+  if (k <= km) {
+    *ds = 2 * (sm - sp) * (k - kp) / ((km - kp) * (km - kp));
+    return sp + (sm - sp) * pow((k - kp) / (km - kp), 2);
+  }
+  *ds = mm * exp(mm * (k - km) / (sm - sr));
+  return sr + (sm - sr) * exp(mm * (k - km) / (sm - sr));
+}
+
+static void set_cap(double par[], double fc, double css, double gfc, double kp)
+{
+  par[BW_LAW_PAR_FC]  = fc;
+  par[BW_LAW_PAR_CSS] = css;
+  par[BW_LAW_PAR_GFC] = gfc;
+  par[BW_LAW_PAR_KP]  = kp;
+}
+
+static Ret cap_law(const double par[], const double s_in[], double dt, double dn)
+{
+  Ret    o;
+  double j[2] = {dt, dn};
+  memset(&o, 0, sizeof(o));
+  bw_law_coulomb_cap(2, 1, par, s_in, j, o.r, o.T, o.s, &o.mode, &o.status);
+  return o;
+}
+
+static void test_cap_uniaxial(void)
+{
+  /* A portion closed step by step in pure compression (dt = 0), J4D's joints with Lourenço's
+   * cap (fc = 10.5 MPa, Gfc = 5 N/mm, kappa_p = 0.093 mm) and the perfectly plastic cap:
+   * elastic to rn = -fc/3 (-fc without Gfc), then on the cap at every step, where the
+   * closed forms of model.md hold: rn = -sbar(k3) with k3 the accumulated plastic closing
+   * (opening = -k3), and the tangent drn/ddn = kn sbar'/(kn + sbar') (from dn = -k3 -
+   * sbar(k3)/kn), through hardening, the parabola's softening and the exponential to the
+   * residual fc/10. Tolerances: rn to 1e-12 fc (the kernel solves its scalar equation to
+   * 1e-14 of the stress scale), k3 from the jump to 1e-12 of kappa_p, the tangent to 1e-9
+   * of kn (sbar' from the same formula; rounding of k3 enters through sbar''). */
+  const double fc = 10.5e6, gfc = 5000, kp = 0.093e-3;
+  for (int soft = 0; soft < 2; soft++) {
+    double par[BW_LAW_NPAR], s[BW_LAW_NSTATE] = {0, 0, 0, 0, 0}, km = kp + 75 * gfc / (67 * fc);
+    set_par(par, 0.25e6, 0.35e6, 0.75, 0, 18, 125);
+    par[BW_LAW_PAR_KT] = CAP_KT;
+    par[BW_LAW_PAR_KN] = CAP_KN;
+    set_cap(par, fc, 9, soft ? gfc : -1, kp);
+    int    nsteps = 600, first = -1, seen[3] = {0, 0, 0};
+    double dnmax = soft ? km + 5e-3 : 4 * fc / CAP_KN, worst_r = 0, worst_t = 0;
+    for (int i = 1; i <= nsteps; i++) {
+      double dn = -dnmax * i / nsteps, ds;
+      Ret    o  = cap_law(par, s, 0, dn);
+      CHECK(o.status == 0, "cap uniaxial step %d: status %d", i, o.status);
+      if (o.status) return;
+      double k3 = o.s[BW_LAW_STATE_K3], sb = cap_sbar(fc, soft ? gfc : -1, kp, k3, &ds);
+      if (o.mode == 0) {
+        CHECK(first < 0 && o.r[1] >= -(soft ? fc / 3 : fc) * (1 + 1e-15), "cap uniaxial step %d: elastic beyond the first yield (rn %g)", i, o.r[1]);
+        expect_close("cap elastic rn", o.r[1], CAP_KN * dn, 1e-15, fc);
+        continue;
+      }
+      if (first < 0) first = i;
+      CHECK(o.mode == BW_LAW_MODE_CRUSHED, "cap uniaxial step %d: mode %d, want 4", i, o.mode);
+      CHECK(o.r[0] == 0, "cap uniaxial step %d: shear %g", i, o.r[0]);
+      worst_r = fmax(worst_r, fabs(o.r[1] + sb) / fc);
+      expect_close("cap rn = -sbar(k3)", o.r[1], -sb, 1e-12, fc);
+      expect_close("cap opening = -k3", o.s[OPEN], -k3, 1e-12, kp);
+      expect_close("cap dn = -k3 - sbar/kn", dn, -k3 - sb / CAP_KN, 1e-12, kp);
+      double want = CAP_KN * ds / (CAP_KN + ds);
+      worst_t     = fmax(worst_t, fabs(o.T[3] - want) / CAP_KN);
+      expect_close("cap tangent kn sbar'/(kn + sbar')", o.T[3], want, 1e-9, CAP_KN);
+      CHECK(o.T[1] == 0 && o.T[2] == 0, "cap uniaxial step %d: coupling in the tangent", i);
+      if (soft) seen[k3 <= kp ? 0 : k3 <= km ? 1 : 2]++;
+      memcpy(s, o.s, sizeof(s));
+    }
+    CHECK(first > 1, "cap uniaxial: no elastic start");
+    if (soft) CHECK(seen[0] > 5 && seen[1] > 5 && seen[2] > 5, "cap uniaxial: branches visited %d %d %d", seen[0], seen[1], seen[2]);
+    if (soft) CHECK(s[BW_LAW_STATE_K3] > km + 4e-3, "cap uniaxial: not into the residual (k3 %g)", s[BW_LAW_STATE_K3]);
+    printf("cap uniaxial (%s): first yield at step %d, worst |rn + sbar|/fc %.2e, worst tangent error/kn %.2e\n", soft ? "Gfc = 5 N/mm" : "perfectly plastic", first, worst_r, worst_t);
+  }
+}
+
+/* The cap's surface in stress units and the sets of a returned state. */
+static double cap_f(const double par[], const double r[2], double k3)
+{
+  double ds, sb = cap_sbar(par[BW_LAW_PAR_FC], par[BW_LAW_PAR_GFC], par[BW_LAW_PAR_KP], k3, &ds);
+  return sqrt(r[1] * r[1] + par[BW_LAW_PAR_CSS] * r[0] * r[0]) - sb;
+}
+
+/* A random law with a cap, a state and a trial jump: trial stresses around the cap and
+ * its corners with the cone (magnitude 0.05 .. 4 fc, directions weighted to compression). */
+static double cap_random_case(double par[], double s[], double j[2])
+{
+  double fc = 2e6 + 18e6 * uniform(), css = 1 + 11 * uniform(), kp = 2e-5 + 2e-4 * uniform();
+  double gfc_min = 67 * fc * fc / (75 * CAP_KN), gfc = uniform() < 0.3 ? -1 : gfc_min * (1.05 + 20 * uniform() * uniform());
+  double ft = uniform() < 0.2 ? 0 : 1e5 * (0.5 + 4 * uniform()), c = uniform() < 0.2 ? 0 : 1e5 * (0.5 + 4 * uniform());
+  double tphi = uniform() < 0.1 ? 0 : 0.3 + 0.7 * uniform(), u = uniform();
+  double tpsi = u < 0.4 ? 0 : (u < 0.7 ? tphi : tphi * uniform());
+  int    soft = uniform() < 0.5;
+  set_par(par, ft, c, tphi, tpsi, soft ? 5 + 50 * uniform() : 0, soft ? 10 + 100 * uniform() : 0);
+  par[BW_LAW_PAR_KT] = CAP_KT;
+  par[BW_LAW_PAR_KN] = CAP_KN;
+  set_cap(par, fc, css, gfc, kp);
+  double km = gfc > 0 ? kp + 75 * gfc / (67 * fc) : kp;
+  s[SLIP]             = 1e-4 * (2 * uniform() - 1);
+  s[OPEN]             = -1e-4 * uniform();
+  s[K1]               = uniform() < 0.5 ? 0 : 1e-4 * uniform();
+  s[K2]               = uniform() < 0.5 ? 0 : 1e-3 * uniform();
+  s[BW_LAW_STATE_K3]  = uniform() < 0.3 ? 0 : 2 * km * uniform();
+  double mag = fc * (0.05 + 4 * uniform()), ang = 3.141592653589793 * (1 + uniform()); /* rn <= 0 */
+  if (uniform() < 0.1) ang = 6.283185307179586 * uniform();
+  j[0] = s[SLIP] + mag * cos(ang) / (CAP_KT * sqrt(css));
+  j[1] = s[OPEN] + mag * sin(ang) / CAP_KN;
+  return fmax(mag, fc);
+}
+
+static void test_cap_property(void)
+{
+  /* 10^4 random laws with a cap, states and trials (cap_random_case). Invariants, sig the
+   * larger of the trial's Q and fc:
+   *   - every surface holds at the returned (r, k): cut-off, cone and cap <= 1e-11 sig;
+   *   - k3 never decreases; on the cap alone (mode 4) the plastic increment is parallel to
+   *     the cap's normal (Css rt, rn) with a positive multiplier and length dk3; at its
+   *     corner with the cone (mode 6) it is x (sign rt, tanpsi) + mu (Css rt, rn)/|.| with
+   *     x = dk2 >= 0 and mu = dk3 >= 0 (the associated flow, k3 its length);
+   *   - r = C (j - jpl);
+   *   - the tangent against central differences, where the mode is the same at +-h, +-2h,
+   *     to 1e-6 of max(kn, |T|) (as the law without cap).
+   * Every trial must find a stress: no BW_LAW_NOT_CONVERGED. */
+  const int n = getenv("BW_CAP_TRIALS") ? atoi(getenv("BW_CAP_TRIALS")) : 10000;
+  int       count[8] = {0}, nfd = 0;
+  double    worst_f = 0, worst_flow = 0, worst_fd = 0;
+  for (int it = 0; it < n; it++) {
+    double par[BW_LAW_NPAR], s[BW_LAW_NSTATE], j[2], f[3];
+    double sig = cap_random_case(par, s, j);
+    Ret    o   = cap_law(par, s, j[0], j[1]);
+    CHECK(o.status == 0, "cap property %d: status %d", it, o.status);
+    if (o.status) printf("  par kt %.17g kn %.17g ft %.17g c %.17g tphi %.17g tpsi %.17g gfI %.17g gfII %.17g fc %.17g css %.17g gfc %.17g kp %.17g\n  s %.17g %.17g %.17g %.17g %.17g j %.17g %.17g\n", par[0], par[1], par[2], par[3], par[4], par[5], par[6], par[7], par[8], par[9], par[10], par[11], s[0], s[1], s[2], s[3], s[4], j[0], j[1]);
+    if (o.status) continue;
+    count[o.mode & 7]++;
+    surfaces(par, o.r, o.s, f);
+    double f3 = cap_f(par, o.r, o.s[BW_LAW_STATE_K3]);
+    worst_f   = fmax(worst_f, fmax(fmax(f[0], f3), fmax(f[1], f[2])) / sig);
+    CHECK(f[0] <= 1e-11 * sig && f[1] <= 1e-11 * sig && f[2] <= 1e-11 * sig && f3 <= 1e-11 * sig, "cap property %d: surface violated %g %g %g %g (sig %g)", it, f[0], f[1], f[2], f3, sig);
+    double dk2 = o.s[K2] - s[K2], dk3 = o.s[BW_LAW_STATE_K3] - s[BW_LAW_STATE_K3], d[2] = {o.s[SLIP] - s[SLIP], o.s[OPEN] - s[OPEN]};
+    double css = par[BW_LAW_PAR_CSS], nrm[2] = {css * o.r[0], o.r[1]}, nn = hypot(nrm[0], nrm[1]);
+    double tolj = 1e-11 * sig / CAP_KT;
+    CHECK(dk3 >= 0, "cap property %d: k3 decreased", it);
+    if (o.mode & 4) {
+      /* the cap's flow along its normal with length dk3, plus the cut-off's (0, dk1) and the
+       * cone's dk2 (sign of the trial shear, tanpsi) where the mode has them */
+      double sg = j[0] - s[SLIP] >= 0 ? 1 : -1, tpsi = par[BW_LAW_PAR_TANPSI], dk1 = o.s[K1] - s[K1];
+      double e = fmax(fabs(d[0] - dk2 * sg - dk3 * nrm[0] / nn), fabs(d[1] - dk1 - dk2 * tpsi - dk3 * nrm[1] / nn));
+      worst_flow = fmax(worst_flow, e / (sig / CAP_KT));
+      CHECK(e <= tolj && dk1 >= 0 && dk2 >= 0, "cap property %d: flow (%g, dk1 %g, dk2 %g, mode %d)", it, e, dk1, dk2, o.mode);
+      CHECK((o.mode & 1 || dk1 == 0) && (o.mode & 2 || dk2 == 0), "cap property %d: k1 or k2 grew off their surfaces (mode %d)", it, o.mode);
+      CHECK(fabs(f3) <= 1e-11 * sig, "cap property %d: mode %d off the cap", it, o.mode);
+    } else CHECK(dk3 == 0, "cap property %d: k3 grew off the cap (mode %d)", it, o.mode);
+    double tolr = 1e-15 * (CAP_KT * fabs(j[0]) + CAP_KN * fabs(j[1]) + fabs(o.r[0]) + fabs(o.r[1]));
+    CHECK(fabs(o.r[0] - CAP_KT * (j[0] - o.s[SLIP])) <= tolr && fabs(o.r[1] - CAP_KN * (j[1] - o.s[OPEN])) <= tolr, "cap property %d: r != C (j - jpl)", it);
+    {
+      double h = 1e-6 * fmax(fmax(fabs(j[0] - s[SLIP]), fabs(j[1] - s[OPEN])), 1e-9), fd[4], e = 0;
+      int    same = 1;
+      for (int cc = 0; cc < 2; cc++)
+        for (int m = 1; m <= 2; m++) {
+          Ret p = cap_law(par, s, j[0] + m * (cc == 0) * h, j[1] + m * (cc == 1) * h), q = cap_law(par, s, j[0] - m * (cc == 0) * h, j[1] - m * (cc == 1) * h);
+          same  = same && p.mode == o.mode && q.mode == o.mode;
+          if (m == 1)
+            for (int row = 0; row < 2; row++) fd[2 * row + cc] = (p.r[row] - q.r[row]) / (2 * h);
+        }
+      for (int q = 0; q < 4; q++) e = fmax(e, fabs(fd[q] - o.T[q]) / fmax(CAP_KN, maxabs4(o.T)));
+      if (same) {
+        nfd++;
+        worst_fd = fmax(worst_fd, e);
+        CHECK(e <= 1e-6, "cap property %d: tangent error %.3e (mode %d)", it, e, o.mode);
+      }
+    }
+  }
+  printf("cap property: %d trials, modes 0/1/2/3/4/5/6 = %d/%d/%d/%d/%d/%d/%d; worst f/sig %.2e, worst flow mismatch kt/sig %.2e; tangent checked at %d, worst %.2e\n", n, count[0], count[1], count[2], count[3], count[4], count[5], count[6], worst_f, worst_flow, nfd, worst_fd);
+  CHECK(count[4] > n / 10 && count[6] > n / 30, "cap property: too few returns to the cap (%d) or its corner (%d)", count[4], count[6]);
+}
+
+static void test_cap3d(void)
+{
+  /* The cap in 3D is the 2D return on the meridian plane: (a) with no b component the ns = 3
+   * kernel gives the ns = 2 answer, stress, tangent and state, to round-off (1e-14 sig);
+   * (b) a rotation of the (t, b) plane rotates stress, slip and tangent (1e-12 sig; the
+   * tangent 1e-9 kn, as the law without cap). 10^4 random cases each. */
+  const int n = 10000;
+  double    worst_a = 0, worst_b = 0;
+  for (int it = 0; it < n; it++) {
+    double par[BW_LAW_NPAR], s[BW_LAW_NSTATE_MAX] = {0}, j[3];
+    double sig = cap_random_case(par, s, j);
+    Ret    o2  = cap_law(par, s, j[0], j[1]);
+    double s3[BW_LAW_NSTATE_MAX], j3[3] = {j[0], j[1], 0}, r3[3], T3[9], so3[BW_LAW_NSTATE_MAX];
+    signed char m3;
+    int         st;
+    memcpy(s3, s, sizeof(s3));
+    s3[SLIPB] = 0;
+    bw_law_coulomb_cap(3, 1, par, s3, j3, r3, T3, so3, &m3, &st);
+    CHECK(st == o2.status && m3 == o2.mode, "cap3d %d: status/mode %d/%d vs %d/%d", it, st, m3, o2.status, o2.mode);
+    if (o2.status) printf("  par kt %.17g kn %.17g ft %.17g c %.17g tphi %.17g tpsi %.17g gfI %.17g gfII %.17g fc %.17g css %.17g gfc %.17g kp %.17g\n  s %.17g %.17g %.17g %.17g %.17g j %.17g %.17g\n", par[0], par[1], par[2], par[3], par[4], par[5], par[6], par[7], par[8], par[9], par[10], par[11], s[0], s[1], s[2], s[3], s[4], j[0], j[1]);
+    double e = fmax(fabs(r3[0] - o2.r[0]), fmax(fabs(r3[1] - o2.r[1]), fabs(r3[2]))) / sig;
+    for (int k = 0; k < BW_LAW_NSTATE; k++) e = fmax(e, fabs(so3[k] - o2.s[k]) * CAP_KT / sig);
+    e = fmax(e, fmax(fmax(fabs(T3[0] - o2.T[0]), fabs(T3[1] - o2.T[1])), fmax(fabs(T3[3] - o2.T[2]), fabs(T3[4] - o2.T[3]))) / fmax(CAP_KN, maxabs4(o2.T)) * 1e-3);
+    worst_a = fmax(worst_a, e);
+    CHECK(e <= 1e-12, "cap3d %d: 3D without b differs from 2D by %.2e", it, e);
+    /* rotate the shear plane by th: the jump's and the slip's (t, b) parts */
+    double th = 6.283185307179586 * uniform(), c = cos(th), sn = sin(th);
+    double sr[BW_LAW_NSTATE_MAX], jr[3] = {c * j[0], j[1], sn * j[0]}, rr[3], Tr[9], sor[BW_LAW_NSTATE_MAX];
+    signed char mr;
+    memcpy(sr, s3, sizeof(sr));
+    sr[SLIP]  = c * s3[SLIP];
+    sr[SLIPB] = sn * s3[SLIP];
+    bw_law_coulomb_cap(3, 1, par, sr, jr, rr, Tr, sor, &mr, &st);
+    double eb = fmax(fabs(rr[0] - c * r3[0]), fmax(fabs(rr[1] - r3[1]), fabs(rr[2] - sn * r3[0]))) / sig;
+    eb        = fmax(eb, fmax(fabs(sor[SLIP] - c * so3[SLIP]), fabs(sor[SLIPB] - sn * so3[SLIP])) * CAP_KT / sig);
+    eb        = fmax(eb, fabs(sor[BW_LAW_STATE_K3] - so3[BW_LAW_STATE_K3]) * CAP_KT / sig);
+    /* drn/d(jump along the rotated t) = drn/ddt of the unrotated case */
+    eb = fmax(eb, fabs(c * Tr[3] + sn * Tr[5] - T3[3]) / fmax(CAP_KN, fabs(T3[3])) * 1e-3);
+    worst_b = fmax(worst_b, eb);
+    CHECK(st == 0 && mr == m3 && eb <= 1e-12, "cap3d %d: rotated case differs by %.2e (mode %d vs %d, status %d, 2D status %d)", it, eb, mr, m3, st, o2.status);
+  }
+  printf("cap3d: %d cases, worst 3D-vs-2D %.2e, worst rotation error %.2e\n", n, worst_a, worst_b);
+}
+
+static void test_cap_bad(void)
+{
+  /* Invalid cap parameters are BW_LAW_BAD_STRENGTH for coulomb_cap; coulomb does not read them. */
+  double      par[BW_LAW_NPAR], s[BW_LAW_NSTATE] = {0}, j[2] = {1e-5, -1e-4}, r[2], T[4], so[BW_LAW_NSTATE];
+  signed char mode;
+  int         st;
+  struct {
+    int    index;
+    double value;
+    int    want;
+  } cases[] = {
+    {BW_LAW_PAR_FC, 0, BW_LAW_BAD_STRENGTH},    {BW_LAW_PAR_FC, -1e6, BW_LAW_BAD_STRENGTH}, {BW_LAW_PAR_FC, NAN, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_CSS, 0, BW_LAW_BAD_STRENGTH},   {BW_LAW_PAR_CSS, INFINITY, BW_LAW_BAD_STRENGTH}, {BW_LAW_PAR_KP, 0, BW_LAW_BAD_STRENGTH},
+    {BW_LAW_PAR_GFC, NAN, BW_LAW_BAD_STRENGTH}, {BW_LAW_PAR_GFC, -1, BW_LAW_OK},               {BW_LAW_PAR_KP, 1e-4, BW_LAW_OK},
+  };
+  for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
+    set_par(par, 2e5, 3e5, 0.75, 0.2, 12, 50);
+    set_cap(par, 10e6, 9, 5000, 1e-4);
+    par[cases[i].index] = cases[i].value;
+    bw_law_coulomb_cap(2, 1, par, s, j, r, T, so, &mode, &st);
+    CHECK(st == cases[i].want, "coulomb_cap: par[%d] = %g gave status %d, want %d", cases[i].index, cases[i].value, st, cases[i].want);
+    bw_law_coulomb(2, 1, par, s, j, r, T, so, &mode, &st);
+    CHECK(st == BW_LAW_OK, "coulomb: par[%d] = %g gave status %d", cases[i].index, cases[i].value, st);
+  }
+  set_cap(par, 10e6, 9, 5000, 1e-4);
+  s[BW_LAW_STATE_K3] = -1e-9;
+  bw_law_coulomb_cap(2, 1, par, s, j, r, T, so, &mode, &st);
+  CHECK(st == BW_LAW_BAD_STATE, "k3 < 0 gave %d", st);
+  s[BW_LAW_STATE_K3] = NAN;
+  bw_law_coulomb_cap(2, 1, par, s, j, r, T, so, &mode, &st);
+  CHECK(st == BW_LAW_BAD_STATE, "NaN k3 gave %d", st);
+}
+
 int main(int argc, char **argv)
 {
   const char *which = argc > 1 ? argv[1] : "all";
@@ -913,6 +1192,10 @@ int main(int argc, char **argv)
   RUN("rotate3d", test_rotate3d());
   RUN("property3d", test_property3d());
   RUN("bad3d", test_bad3d());
+  RUN("cap_uniaxial", test_cap_uniaxial());
+  RUN("cap_property", test_cap_property());
+  RUN("cap3d", test_cap3d());
+  RUN("cap_bad", test_cap_bad());
   printf("%s: %s\n", which, failures ? "FAILED" : "passed");
   return failures ? 1 : 0;
 }
