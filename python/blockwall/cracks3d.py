@@ -20,7 +20,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from .plots import STATES, crack_panel, crack_step
+from .plots import crack_panel, crack_step, state_counts
 
 # camera (elevation, azimuth) of matplotlib's 3D axes, whose x, y, z are X1, X3, X2
 VIEWS3D = {"iso": (22, -60), "front": (5, -90), "back": (5, 90), "side": (5, 0), "top": (88, -90)}
@@ -117,7 +117,7 @@ class Crack3DPlot:
     step: int | None
     nearest: bool
     state: np.ndarray            # (P,) the states drawn
-    counts: np.ndarray           # (4,) portions in each state
+    counts: np.ndarray           # portions in each state (0..3, and the cap's 4..7 where present)
     load_factor: float | None
     monitor: float | None
 
@@ -135,7 +135,7 @@ def plot_cracks3d(res, at="end", view="iso"):
     polys = portion_polygons(res)
     if len(polys) != len(state):
         raise ValueError(f"{res.path}: {len(state)} portion states for {len(polys)} portions")
-    counts = np.bincount(state.astype(np.int64), minlength=len(STATES))
+    counts, drawn = state_counts(res.path, state)
 
     fig = Figure(figsize=(14 if history else 10, 7.5), layout="constrained")
     FigureCanvasAgg(fig)
@@ -149,7 +149,7 @@ def plot_cracks3d(res, at="end", view="iso"):
     ax.add_collection3d(Poly3DCollection([swap(f) for f in _block_faces(res)], facecolors=(0.6, 0.6, 0.6, 0.04),
                                          edgecolors="none"))
     handles = []
-    for s, (name, colour, _) in STATES.items():
+    for s, (name, colour, _) in drawn.items():
         sel = [swap(polys[i]) for i in np.nonzero(state == s)[0]]
         col = Poly3DCollection(sel, facecolors=colour, edgecolors="0.3" if s else "0.7", linewidths=0.2,
                                alpha=0.25 if s == 0 else 0.95, label=f"{name}: {counts[s]}")

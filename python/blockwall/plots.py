@@ -238,11 +238,28 @@ def plot_history(res):
 
 # The states of /interfaces/state: value -> (name in the legend, colour,
 # line width). Elastic portions are drawn thin and light so that the
-# cracks (open, sliding, both) stand out on them.
+# cracks (open, sliding, both) stand out on them. A state is a set of
+# bits (1 open, 2 sliding, 4 crushed on the compressive cap); the crushed
+# ones are drawn and listed only where a file has them.
 STATES = {0: ("elastic", "0.82", 0.6),
           1: ("open", "tab:red", 2.5),
           2: ("sliding", "tab:blue", 2.5),
           3: ("open and sliding", "tab:purple", 2.5)}
+CAP_STATES = {4: ("crushed", "tab:orange", 3.0),
+              5: ("crushed and open", "tab:brown", 3.0),
+              6: ("crushed and sliding", "tab:olive", 3.0),
+              7: ("crushed, open and sliding", "black", 3.0)}
+
+
+def state_counts(path, state):
+    """Portions per state (at least 0..3) and the states to draw: 0..3,
+    and those of the cap that occur."""
+    counts = np.bincount(np.asarray(state).ravel().astype(np.int64), minlength=len(STATES))
+    if len(counts) > len(STATES) + len(CAP_STATES):
+        raise ValueError(f"{path}: interface state {len(counts) - 1} is none of 0..{len(STATES) + len(CAP_STATES) - 1}")
+    drawn = dict(STATES)
+    drawn.update({s: v for s, v in CAP_STATES.items() if s < len(counts) and counts[s] > 0})
+    return counts, drawn
 
 
 @dataclass
@@ -256,7 +273,7 @@ class CrackPlot:
     nearest: bool                   # True: `requested` was not written, the nearest written step was drawn
     state: np.ndarray               # (I, m) the states drawn
     segments: np.ndarray            # (I, m, 2, 2) each portion's ends on the undeformed joint line
-    counts: np.ndarray              # (4,) portions drawn in each state 0..3
+    counts: np.ndarray              # portions drawn in each state 0..3 (and 4..7, crushed, where present)
     lines: dict                     # state -> the LineCollection of its portions
     load_factor: float | None       # lambda of the step drawn (None without /history)
     monitor: float | None           # the monitor dof at the step drawn
@@ -294,7 +311,8 @@ def nearest_written_step(res, step):
 def plot_cracks(res, at="end"):
     """The crack pattern: the wall's blocks (undeformed outline) and every
     portion of every interface as a segment along the joint, coloured by
-    its state (0 elastic, 1 open, 2 sliding, 3 both); the legend counts
+    its state (0 elastic, 1 open, 2 sliding, 3 both; 4..7 crushed on the
+    compressive cap, alone or with those); the legend counts
     the portions in each state. `at`: "end" (the top-level
     /interfaces/state, the last converged step), "peak" (the step of
     largest load factor, or the written step nearest to it), or a step
@@ -305,9 +323,7 @@ def plot_cracks(res, at="end"):
     history, kind, requested, step, state = crack_step(res, at)
     state = state.reshape(res.ninterfaces, res.m)
     segments = portion_segments(res)
-    counts = np.bincount(state.ravel().astype(np.int64), minlength=len(STATES))
-    if len(counts) > len(STATES):
-        raise ValueError(f"{res.path}: interface state {len(counts) - 1} is none of 0..{len(STATES) - 1}")
+    counts, drawn = state_counts(res.path, state)
 
     lo, hi = res.vertices.min(axis=0), res.vertices.max(axis=0)
     aspect = (hi[1] - lo[1]) / max(hi[0] - lo[0], 1e-300)
@@ -318,13 +334,13 @@ def plot_cracks(res, at="end"):
         ax, ax_h = fig.add_subplot(), None
     ax.add_collection(PolyCollection(res.polygons(), facecolors="0.97", edgecolors="0.35", linewidths=0.5))
     lines = {}
-    for s, (name, colour, width) in STATES.items():
+    for s, (name, colour, width) in drawn.items():
         mask = state == s
         # elastic first, so that a crack is never hidden under a grey segment
         lines[s] = LineCollection(segments[mask], colors=colour, linewidths=width, zorder=2 + (s > 0),
                                   capstyle="butt", label=f"{name}: {counts[s]}")
         ax.add_collection(lines[s])
-    ax.legend(handles=[lines[s] for s in STATES], loc="upper left", bbox_to_anchor=(1.0, 1.0),
+    ax.legend(handles=[lines[s] for s in drawn], loc="upper left", bbox_to_anchor=(1.0, 1.0),
               fontsize="small", title=f"portions ({state.size})", title_fontsize="small")
     ax.autoscale_view()
     ax.set_aspect("equal")

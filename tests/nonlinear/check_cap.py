@@ -22,6 +22,8 @@ whole program, against its closed forms.
   plastic     the cap without compression_energy: perfectly plastic at fc,
               the plateau N = fc A exactly.
   errors      bad cap keys: one line naming the key, exit 1, no file.
+The 2D crush also draws its crack pattern: the 4 crushed portions (state 4,
+the cap's bit) in the legend.
 """
 import math
 import os
@@ -130,6 +132,12 @@ def crush(dim, ranks):
             results[steps] = (worst, derr, lam, kk, diss)
             print(f"{dim}D on {ranks} rank(s), {steps} steps: every step on rn = -sbar(k3) to {worst:.1e} of fc A; "
                   f"dissipation against A int sbar dk to {derr:.2e} of Gfc A; states at the end {np.unique(r.state[0])}")
+            if dim == 2 and steps == 300:
+                # the crack pattern names the crushed portions (state 4: the cap's bit)
+                from blockwall import plots
+                cp = plots.plot_cracks(r, "end")
+                labels = [t.get_text() for t in cp.ax.get_legend().get_texts()]
+                expect(cp.counts[4] == 4 and "crushed: 4" in labels, f"crack pattern: counts {cp.counts}, legend {labels}")
         worst, derr, lam, kk, diss = results[300]
         expect(derr <= 1e-3, f"dissipation off the exact plastic work by {derr:.2e} of Gfc A")
         expect(derr < results[150][1], f"the dissipation's error does not fall with the step ({results[150][1]:.2e} -> {derr:.2e})")
