@@ -213,9 +213,35 @@ class HistoryPlot:
     load_factor: np.ndarray         # (S,) lambda
 
 
+def capacity_envelope(lam, mon):
+    """The displacement-controlled envelope of a capacity curve
+    (interface.md, "past the peak"): the monitor measured from step 0
+    along the direction it moved, the steps where it reaches a new
+    maximum, and where the path comes back past that maximum after a
+    snap-back, the point at it (a vertical drop). Returns (d, lambda, sign)
+    with d >= 0 the displacement magnitudes."""
+    lam, mon = np.asarray(lam, float), np.asarray(mon, float)
+    sign = 1.0 if mon[-1] >= mon[0] else -1.0
+    d = sign * (mon - mon[0])
+    env_d, env_f, dmax, behind = [0.0], [lam[0]], 0.0, False
+    for i in range(1, len(lam)):
+        if d[i] <= dmax:
+            behind = True
+            continue
+        if behind and d[i] > d[i - 1]:
+            a = (dmax - d[i - 1]) / (d[i] - d[i - 1])
+            env_d.append(dmax)
+            env_f.append(lam[i - 1] + a * (lam[i] - lam[i - 1]))
+        env_d.append(d[i])
+        env_f.append(lam[i])
+        dmax, behind = d[i], False
+    return np.array(env_d), np.array(env_f), sign
+
+
 def plot_history(res):
     """A pushover's capacity curve: the load factor against the monitor
-    dof, one marker per converged step (/history)."""
+    dof, one marker per converged step (/history), with its envelope and
+    the bilinearisation of /solver (where it exists)."""
     if not res.history or "load_factor" not in res.history or "monitor" not in res.history:
         raise ValueError(f"{res.path} has no /history (not a pushover result)")
     lam, mon = np.asarray(res.history["load_factor"]), np.asarray(res.history["monitor"])
@@ -227,12 +253,23 @@ def plot_history(res):
     peak = res.solver.get("peak_load_factor")
     if isinstance(peak, (int, float, np.floating)):
         ax.axhline(peak * ys, color="0.4", linestyle="--", linewidth=1, label=f"peak λ = {peak:.6g}")
-        ax.legend(loc="best", fontsize="small")
+    # the envelope (a snap-back drawn as a vertical drop) and its NTC 2018
+    # bilinearisation from /solver: up to (d_y, F_y), flat to d_u
+    env_d, env_f, sign = capacity_envelope(lam, mon)
+    if len(lam) > 1:
+        ax.plot((mon[0] + sign * env_d) * xs, env_f * ys, "-", color="tab:orange", linewidth=1.5, label="envelope")
+    fy, dy, du = (res.solver.get(k) for k in ("bilinear_yield_force", "bilinear_yield_displacement", "ultimate_displacement"))
+    if all(isinstance(v, (int, float, np.floating)) and np.isfinite(v) for v in (fy, dy, du)):
+        duct = res.solver.get("ductility")
+        ax.plot((mon[0] + sign * np.array([0.0, dy, du])) * xs, np.array([lam[0], fy, fy]) * ys, "-", color="k",
+                linewidth=1.2, label=f"bilinear: F_y λ = {fy:.4g} at d_y = {dy * xs:.3g}, d_u = {du * xs:.3g}"
+                + (f", ductility {duct:.3g}" if isinstance(duct, (int, float, np.floating)) else ""))
+    ax.legend(loc="best", fontsize="small")
     ax.set_xlabel(xl)
     ax.set_ylabel(yl)
     ax.grid(True, alpha=0.3)
     stop = res.solver.get("stop_reason", "")
-    ax.set_title(f"{res.title or 'blockwall'}: pushover, {len(lam)} steps" + (f"\n{stop}" if stop else ""))
+    ax.set_title(f"{res.title or 'blockwall'}: pushover, {len(lam)} steps" + (f"\n{stop}" if stop else ""), wrap=True, fontsize="medium")
     return HistoryPlot(fig, ax, mon, lam)
 
 

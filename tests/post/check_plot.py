@@ -158,6 +158,23 @@ def check_history(res, f):
     expect(float(sv["pattern_resultant"]) == 1.0, f"pattern_resultant {sv['pattern_resultant']!r} for a pattern of 1 N")
     expect(hp.ax.get_xlabel() == "u1 of top_beam [mm]" and xs == 1e3, f"x label {hp.ax.get_xlabel()!r}")
     expect(hp.ax.get_ylabel().startswith("load [kN]") and ys == 1e-3, f"y label {hp.ax.get_ylabel()!r}")
+    # the envelope (its largest load the peak, its reach the monitor's) and the
+    # bilinearisation of /solver: (0, 0) -> (d_y, F_y) -> (d_u, F_y) from step 0
+    lines = {l.get_label(): l for l in hp.ax.lines}
+    env = lines.get("envelope")
+    sign = 1.0 if mon[-1] >= mon[0] else -1.0
+    expect(env is not None and abs(env.get_ydata().max() - float(sv["peak_load_factor"]) * ys) <= 1e-12 * abs(env.get_ydata().max())
+           and abs(env.get_xdata()[-1] - (mon[0] + sign * np.max(sign * (mon - mon[0]))) * xs) <= 1e-12 * abs(env.get_xdata()[-1]),
+           "the envelope drawn does not reach the peak load and the monitor's reach")
+    fy, dy, du = (float(sv[k]) for k in ("bilinear_yield_force", "bilinear_yield_displacement", "ultimate_displacement"))
+    bil = [l for name, l in lines.items() if name.startswith("bilinear")]
+    if np.isfinite(fy):
+        want_x = (mon[0] + sign * np.array([0, dy, du])) * xs
+        expect(len(bil) == 1 and np.allclose(bil[0].get_xdata(), want_x, rtol=1e-12, atol=0)
+               and np.allclose(bil[0].get_ydata(), np.array([lam[0], fy, fy]) * ys, rtol=1e-12, atol=1e-300),
+               f"bilinear line drawn {[(l.get_xdata(), l.get_ydata()) for l in bil]}, /solver gives d_y {dy}, d_u {du}, F_y {fy}")
+    else:
+        expect(not bil, "a bilinear line drawn where /solver has none")
 
 
 def portion_ends(f):
