@@ -173,10 +173,13 @@ static PetscErrorCode BwLinearRun(BwAnalysis a, BwProblem *p)
     PetscCall(PetscStrlcat(files, file, sizeof(files)));
     if (newton) {
       BwJointField field;
-      PetscInt     count[4];
+      PetscInt     count[4], crushed;
       PetscCall(BwNewtonGetSolution(newton, NULL, &field));
       PetscCall(BwJointFieldCount(field, count));
-      PetscCall(PetscPrintf(p->comm, "  joints: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic; residual of the nonlinear system %.3e\n", count[1], count[2], count[3], count[0], (double)nwres));
+      PetscCall(BwJointFieldCountCrushed(field, &crushed));
+      PetscCall(PetscPrintf(p->comm, "  joints: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic", count[1], count[2], count[3], count[0]));
+      if (crushed) PetscCall(PetscPrintf(p->comm, "; %" PetscInt_FMT " crushed (on the cap)", crushed));
+      PetscCall(PetscPrintf(p->comm, "; residual of the nonlinear system %.3e\n", (double)nwres));
     }
     PetscCall(BwNewtonDestroy(&newton));
     PetscCall(BwReportDestroy(&report));

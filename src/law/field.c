@@ -195,6 +195,16 @@ PetscErrorCode BwJointFieldCount(BwJointField f, PetscInt count[4])
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode BwJointFieldCountCrushed(BwJointField f, PetscInt *crushed)
+{
+  PetscInt loc = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < f->poff[f->nown]; i++) loc += (f->committed_mode[i] & BW_LAW_MODE_CRUSHED) ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(&loc, crushed, 1, MPIU_INT, MPI_SUM, f->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 
 PetscErrorCode BwJointFieldModeChanges(BwJointField f, PetscBool first, PetscInt *changes)
 {

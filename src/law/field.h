@@ -38,6 +38,10 @@ PetscErrorCode BwJointFieldCommit(BwJointField field);
  * output; and the counts of open, sliding and both over all ranks. */
 PetscErrorCode BwJointFieldGetState(BwJointField field, const signed char **mode, PetscReal **plastic);
 PetscErrorCode BwJointFieldCount(BwJointField field, PetscInt count[4]);
+/* Portions on the compressive cap (mode bit 4) over all ranks; they are
+ * also counted above by their cut-off and cone bits (a portion only on the
+ * cap as elastic there). */
+PetscErrorCode BwJointFieldCountCrushed(BwJointField field, PetscInt *crushed);
 /* A new step from the committed state: the portions' mode changes are
  * counted from here (BwJointFieldGetTangents). */
 PetscErrorCode BwJointFieldBeginStep(BwJointField field);
