@@ -23,8 +23,8 @@ struct _n_BwNewton {
   BwLog        log; /* the linear solves' own phases, quietly (a pushover makes thousands) */
   PetscBool    debug; /* analysis.newton_monitor: one line per iteration */
   /* dissipation control: the energy gradient, the last step's balance */
-  Vec          g;
-  PetscReal    step_work, step_dissipation, last_dlambda, lambda_trial;
+  Vec          g, e, dx3; /* e: the monitor's unit vector; dx3 = K'^-1 e */
+  PetscReal    step_work, step_dissipation, last_dlambda, lambda_trial, gross_work;
 };
 
 PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton)
@@ -81,6 +81,8 @@ PetscErrorCode BwNewtonDestroy(BwNewton *newton)
   PetscCall(VecDestroy(&nw->dx));
   PetscCall(VecDestroy(&nw->dx2));
   PetscCall(VecDestroy(&nw->g));
+  PetscCall(VecDestroy(&nw->e));
+  PetscCall(VecDestroy(&nw->dx3));
   PetscCall(VecDestroy(&nw->b));
   PetscCall(VecDestroy(&nw->b0));
   PetscCall(VecDestroy(&nw->bP));
@@ -203,7 +205,7 @@ static PetscErrorCode BwNewtonEnergy(BwNewton nw, Vec x, PetscReal lambda0, Pets
 {
   IS        isr, isq;
   Vec       xq, x0q, bq, br, xr, x0r, gq, gr, dq;
-  PetscReal w1, wP, e1, e0;
+  PetscReal w1, wP, drx0, drdr;
 
   PetscFunctionBeginUser;
   PetscCall(BwMixedGetFields(nw->mx, &isr, &isq));
@@ -222,13 +224,25 @@ static PetscErrorCode BwNewtonEnergy(BwNewton nw, Vec x, PetscReal lambda0, Pets
   PetscCall(VecDot(bq, dq, &wP));
   PetscCall(VecRestoreSubVector(nw->bP, isq, &bq));
   PetscCall(VecRestoreSubVector(nw->g, isq, &dq));
+  /* the change of stored energy as dr.(x0 + dr/2), dr = x_r - x0_r (in g's
+   * r part as scratch), not |x_r|^2 - |x0_r|^2: the stored energy of a wall
+   * at its peak is ~1e3 J, whose round-off over 1e5 portions (1e-11 J)
+   * would be the whole tolerance of a step of 1e-3 J */
   PetscCall(VecGetSubVector(x, isr, &xr));
   PetscCall(VecGetSubVector(nw->x, isr, &x0r));
-  PetscCall(VecDot(xr, xr, &e1));
-  PetscCall(VecDot(x0r, x0r, &e0));
+  PetscCall(VecGetSubVector(nw->g, isr, &gr));
+  PetscCall(VecWAXPY(gr, -1.0, x0r, xr));
+  PetscCall(VecDot(gr, x0r, &drx0));
+  PetscCall(VecDot(gr, gr, &drdr));
+  PetscCall(VecRestoreSubVector(nw->g, isr, &gr));
   PetscCall(VecRestoreSubVector(nw->x, isr, &x0r));
   *work        = w1 + 0.5 * (lambda0 + lambda) * wP;
-  *dissipation = *work - 0.5 * (e1 - e0);
+  /* the loads' work without cancellation: where the constant loads take
+   * back what the pattern gives (a rocking stack lifting its own weight) the
+   * net work is small and would make round-off and the trapezoid rule's
+   * error on a curved elastic path look like a dissipating step */
+  nw->gross_work = PetscAbsReal(w1) + PetscAbsReal(0.5 * (lambda0 + lambda) * wP);
+  *dissipation = *work - (drx0 + 0.5 * drdr); /* 1/2 (|x_r|^2 - |x0_r|^2) */
   if (dlambda) *dlambda = 0.5 * wP;
   if (grad) {
     PetscCall(VecGetSubVector(nw->g, isr, &gr));
@@ -269,7 +283,7 @@ static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscBoo
  * value (displacement) or the energy to dissipate (dissipation). */
 static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lambda, BwNewtonControl control, PetscReal target, PetscBool *converged)
 {
-  PetscReal lam = *lambda, lam0 = *lambda, norm, after1 = PETSC_MAX_REAL, target_scaled = 0, gscale = 1;
+  PetscReal lam = *lambda, lam0 = *lambda, norm, after1 = PETSC_MAX_REAL, target_scaled = 0, gscale = 1, recent[6];
   PetscBool failed = PETSC_FALSE, displacement = control == BW_NEWTON_DISPLACEMENT ? PETSC_TRUE : PETSC_FALSE;
   PetscBool dissipation = control == BW_NEWTON_DISSIPATION ? PETSC_TRUE : PETSC_FALSE;
   PetscInt  changes;
@@ -327,6 +341,19 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
       break;
     }
     if (nw->its == 1) after1 = merit;
+    /* Under dissipation control a step that stalls is given up early: where
+     * a few portions keep flipping between softening and unloading they
+     * enter the matrix with their elastic stiffness and Newton creeps
+     * (5 % per iteration at the peak of a cracking wall, 40 iterations
+     * of a factorisation each for nothing), while the step with half the
+     * energy converges in a few. Stalled: after 10 iterations, the merit
+     * has not halved over the last 5, and it is not within 10 times the
+     * tolerance (from there the creep reaches it in a few more). */
+    recent[nw->its % 6] = merit;
+    if (dissipation && nw->its >= 10 && merit > 0.5 * recent[(nw->its - 5) % 6] && merit > 10 * nw->rtol) {
+      PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "Newton stalled (relative residual %.3e after %" PetscInt_FMT " iterations, %.3e five before)", (double)norm, nw->its, (double)recent[(nw->its - 5) % 6]));
+      break;
+    }
     if (nw->its >= 3 && merit > 1e3 * PetscMax(after1, nw->rtol)) {
       PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "Newton diverged (relative residual %.3e after %" PetscInt_FMT " iterations, %.3e after the first)", (double)merit, nw->its, (double)after1));
       break;
@@ -346,10 +373,20 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
      * K' dx1 = -F + e gap, K' dx2 = bP give K dx - bP dlambda = -F with
      * e.dx = gap for dlambda = (gap - e.dx1) / e.dx2, exactly */
     if (dissipation) {
-      /* bordered: K dx1 = -F, K dx2 = bP, and dlambda from the linearised
-       * constraint D(x + dx1 + dlambda dx2, lambda + dlambda) = target */
-      PetscReal w, d, dDdl, g1, g2;
-      PetscCall(BwMixedSetSpring(nw->mx, -1, 0, 1.0));
+      /* bordered on the energy: K dx - bP dlambda = -F and the linearised
+       * constraint D(x + dx, lambda + dlambda) = target. K alone is
+       * singular where the joints form a mechanism (a block sliding on a
+       * perfectly plastic joint: a plateau of the curve), so the solves
+       * use K' = K + e e^T (the monitor's spring, as displacement control)
+       * and carry mu = e.dx as a third unknown, exactly:
+       *   K' a = -F, K' d = bP, K' c = e,  dx = a + dlambda d + mu c,
+       *   (1 - e.c) mu - (e.d) dlambda = e.a                  (mu = e.dx)
+       *   (g.c) mu + (g.d + dD/dlambda) dlambda = target - D - g.a
+       * a 2 x 2 system that stays regular at a limit point or on a plateau
+       * where K dx2 = bP has no answer. Three solves with one factor. */
+      PetscReal w, d, dDdl, ga, gd, gc, ea, ed, ec, det, rhs2, mu;
+      PetscCheck(nw->mon_row >= 0, nw->p->comm, PETSC_ERR_ORDER, "dissipation control without a monitor");
+      PetscCall(BwMixedSetSpring(nw->mx, nw->mon_block, nw->mon_dof, 1.0));
       PetscCall(VecScale(nw->F, -1.0));
       PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, &ok));
       PetscCall(VecScale(nw->F, -1.0));
@@ -357,16 +394,30 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
       if (!nw->dx2) PetscCall(VecDuplicate(nw->x, &nw->dx2));
       PetscCall(BwNewtonLinearSolve(nw, nw->bP, nw->dx2, &ok));
       if (!ok) break;
+      if (!nw->e) {
+        PetscCall(VecDuplicate(nw->x, &nw->e));
+        PetscCall(VecDuplicate(nw->x, &nw->dx3));
+        PetscCall(VecZeroEntries(nw->e));
+        PetscCall(BwVecAddEntry(nw->e, nw->mon_row, 1.0));
+      }
+      PetscCall(BwNewtonLinearSolve(nw, nw->e, nw->dx3, &ok));
+      if (!ok) break;
       PetscCall(BwNewtonEnergy(nw, nw->xn, lam0, lam, PETSC_TRUE, &w, &d, &dDdl));
-      PetscCall(VecDot(nw->g, nw->dx, &g1));
-      PetscCall(VecDot(nw->g, nw->dx2, &g2));
+      PetscCall(VecDot(nw->g, nw->dx, &ga));
+      PetscCall(VecDot(nw->g, nw->dx2, &gd));
+      PetscCall(VecDot(nw->g, nw->dx3, &gc));
+      PetscCall(BwVecEntry(nw->dx, nw->mon_row, &ea));
+      PetscCall(BwVecEntry(nw->dx2, nw->mon_row, &ed));
+      PetscCall(BwVecEntry(nw->dx3, nw->mon_row, &ec));
+      det  = (1 - ec) * (gd + dDdl) + ed * gc;
+      rhs2 = target - d - ga;
       {
         /* In an elastic state the loads' work and the stored energy change
-         * alike to first order: the constraint does not see lambda (its
-         * derivative is round-off against the work rate). The first
-         * iteration then predicts along the load pattern by the last
-         * step's increment of lambda (at least 1 % of lambda), which makes the
-         * portions at their strength flow; the next ones are bordered. */
+         * alike to first order: the constraint does not see lambda (the
+         * determinant is round-off against its terms, the work rate). The
+         * first iteration then predicts along the load pattern by the last
+         * step's increment of lambda (at least 1 % of lambda), which makes
+         * the portions at their strength flow; the next ones are bordered. */
         IS        isq;
         Vec       gq, d2q;
         PetscReal rate, rel;
@@ -376,21 +427,25 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
         PetscCall(VecDot(gq, d2q, &rate));
         PetscCall(VecRestoreSubVector(nw->g, isq, &gq));
         PetscCall(VecRestoreSubVector(nw->dx2, isq, &d2q));
-        rel = PetscAbsReal(g2 + dDdl) / PetscMax(PetscAbsReal(rate), PETSC_SMALL * PETSC_SMALL);
-        if (!PetscIsNormalReal(g2 + dDdl) || rel < 1e-9) {
-          if (nw->its > 0) {
+        rel = PetscAbsReal(det) / PetscMax(PetscAbsReal(1 - ec) * PetscAbsReal(rate) + PetscAbsReal(ed * gc), PETSC_SMALL * PETSC_SMALL);
+        if (!PetscIsNormalReal(det) || rel < 1e-9) {
+          if (nw->its > 0 || !(PetscAbsReal(1 - ec) > 0)) {
             PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "the dissipation constraint does not depend on the load factor here (no portion flows: an elastic state)"));
             break;
           }
           dlam = PetscMax(PetscAbsReal(nw->last_dlambda), 0.01 * PetscAbsReal(lam));
           if (!(dlam > 0)) dlam = 1.0;
           if (nw->last_dlambda < 0) dlam = -dlam;
-        } else dlam = (target - d - g1) / (g2 + dDdl);
+          mu = (ea + ed * dlam) / (1 - ec);
+        } else {
+          dlam = ((1 - ec) * rhs2 - gc * ea) / det;
+          mu   = (ea * (gd + dDdl) + ed * rhs2) / det;
+        }
       }
-      PetscCall(VecAXPY(nw->dx, dlam, nw->dx2));
+      PetscCall(VecAXPBYPCZ(nw->dx, dlam, mu, 1.0, nw->dx2, nw->dx3));
     }
-    PetscCall(BwMixedSetSpring(nw->mx, displacement ? nw->mon_block : -1, nw->mon_dof, 1.0));
     if (!dissipation) {
+    PetscCall(BwMixedSetSpring(nw->mx, displacement ? nw->mon_block : -1, nw->mon_dof, 1.0));
     PetscCall(VecScale(nw->F, -1.0));
     if (displacement) PetscCall(BwVecAddEntry(nw->F, nw->mon_row, gap));
     PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, &ok));
@@ -455,6 +510,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     nw->lambda_trial = lam - lam0;
     *lambda          = lam;
     PetscCall(BwNewtonEnergy(nw, nw->xn, lam0, lam, PETSC_FALSE, &nw->step_work, &nw->step_dissipation, NULL));
+    nw->step_work = nw->gross_work;
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

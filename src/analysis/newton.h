@@ -50,7 +50,9 @@ typedef enum { BW_NEWTON_LOAD, BW_NEWTON_DISPLACEMENT, BW_NEWTON_DISSIPATION } B
  * factor). Fails in an elastic state, where no lambda changes the
  * dissipation to first order. */
 PetscErrorCode BwNewtonSolveDissipation(BwNewton newton, PetscReal *lambda, PetscReal energy, PetscBool *converged);
-/* The last converged step's work of the loads and energy dissipated [J]. */
+/* The last converged step's work of the loads and energy dissipated [J];
+ * the work is counted without cancellation, |constant loads' work| +
+ * |the pattern's work|, the scale a dissipation is measured against. */
 PetscErrorCode BwNewtonGetStepEnergy(BwNewton newton, PetscReal *work, PetscReal *dissipation);
 /* The constant loads applied from the unloaded state (mu: 0 -> 1, lambda
  * = 0), under load control, in one step cut in halves where Newton fails

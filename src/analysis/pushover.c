@@ -235,6 +235,11 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
   PetscInt    good = 0, substeps, returns = 0;
   PetscBool   ok, dissipating = PETSC_FALSE;
   PetscReal   tau = po->dissipation_step, tau_min = 0, tau_max = 0, totalwork = 0;
+  /* the path length of a step, ds = sqrt(dmon^2 + (dlambda/k0)^2), with k0
+   * the first step's secant stiffness (lambda per monitor): one nominal
+   * displacement increment du is the length an energy step aims at when
+   * dissipation_step does not fix the energy per step */
+  PetscReal   k0 = 0, du = PetscAbsReal(po->target) / po->steps;
   PetscReal  *load;
   const char *reason;
 
@@ -256,6 +261,7 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
   }
   if (po->every >= 1) PetscCall(BwPushoverWriteStep(p, nw, of, 0, 0, load));
   (void)load_mon;
+  du = PetscAbsReal(po->target - mon0) / po->steps;
 
   while (t < 1 - 1e-12 && !stop[0]) {
     PetscReal tn, lam = lambda, goal, work = 0, dissipated = 0;
@@ -281,11 +287,34 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
       PetscCall(BwHistoryAdd(h, lambda, mon, its, res, dissipated));
       if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": lambda %12.5e, monitor %12.5e, %2" PetscInt_FMT " Newton iterations, residual %.1e%s, dissipated %.3e\n", step, (double)lambda, (double)mon, its, (double)res, by_energy ? " (energy control)" : "", (double)dissipated));
       if (po->every >= 1 && step % po->every == 0) PetscCall(BwPushoverWriteStep(p, nw, of, step, lambda, load));
+      if (step == 1 && PetscAbsReal(mon - h->monitor[0]) > 0) k0 = PetscAbsReal((lambda - h->lambda[0]) / (mon - h->monitor[0]));
       if (by_energy) {
-        /* adapt the energy per step to Newton's work, and stop at the
-         * target or after the most steps */
-        if (its <= 4) tau = PetscMin(1.5 * tau, tau_max);
-        else if (its >= 10) tau *= 0.6;
+        /* adapt the energy per step, and stop at the target or after the
+         * most steps. A given dissipation_step is the most a step
+         * dissipates (the resolution asked for): cut where Newton
+         * struggles, back up to it after easy steps. Otherwise the energy
+         * per step follows the path: the energy a step needs for one
+         * displacement increment grows by orders of magnitude from the
+         * first crack to the peak (a 1e4-block wall: 0.1 J at the first
+         * crack, steps of 5e-7 m at 0.8 of the peak with it), so it is
+         * scaled by du/ds towards steps of one increment's length, by at
+         * most 1.5 (2 after a step of 3 iterations or fewer: it grows back
+         * quickly from the small steps a peak's cut-backs leave) and at
+         * least 0.5 a step, never up after a step of more
+         * than 6 iterations (5 or 6 are the norm on a cracking wall's
+         * branch), down by 0.6 after one of 10 or more. */
+        PetscReal dl = (lambda - h->lambda[step - 1]) / (k0 > 0 && PetscIsNormalReal(k0) ? k0 : PETSC_MAX_REAL);
+        PetscReal dm = mon - h->monitor[step - 1], ds = PetscSqrtReal(dm * dm + dl * dl);
+        if (po->dissipation_step > 0) {
+          if (its <= 4) tau = PetscMin(1.5 * tau, tau_max);
+          else if (its >= 10) tau *= 0.6;
+        } else {
+          PetscReal f = ds > 0 ? PetscMax(0.5, PetscMin(its <= 3 ? 2.0 : 1.5, du / ds)) : 1.5;
+          if (its > 6) f = PetscMin(f, 1.0);
+          if (its >= 10) f = PetscMin(f, 0.6);
+          tau *= f;
+          tau_min = tau * po->min_step; /* cut-backs go down to min_step of what the path asks for here */
+        }
         t = (mon - mon0) / (po->target - mon0);
         if (t >= 1) t = 1;
       } else {
@@ -293,7 +322,8 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
         else t = PetscMin(1.0, (mon - mon0) / (po->target - mon0));
         if (++good >= 2) hc = PetscMin(inc, 2 * hc);
         /* dissipation control takes over once a step dissipates more
-         * than 1 % of the loads' work on it */
+         * than 1 % of the loads' work on it (counted without cancellation
+         * between the constant loads and the pattern: newton.h) */
         if (po->control == BW_CONTROL_DISSIPATION && dissipated > 0.01 * PetscAbsReal(work)) {
           dissipating = PETSC_TRUE;
           if (!(tau > 0)) tau = dissipated;

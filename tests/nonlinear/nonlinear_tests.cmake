@@ -26,3 +26,12 @@ foreach(np 1 2)
   bw_py_test(nonlinear.snapback_${np} "nonlinear;mpi" nonlinear/check_past_peak.py snapback ${np})
 endforeach()
 bw_py_test(nonlinear.capacity nonlinear nonlinear/check_past_peak.py capacity)
+
+# Past the peak (issue 20): the scenes of the nonlinear tests give the same
+# curve under dissipation control as under displacement control
+# (check_controls.py says what is compared and why), and a running-bond
+# wall of 412 blocks with J4D's joints followed past its peak to below 0.8
+# of it, every written step a converged equilibrium.
+bw_py_test(nonlinear.same_curve_1 nonlinear nonlinear/check_controls.py same_curve 1)
+bw_py_test(nonlinear.same_curve_2 "nonlinear;mpi" nonlinear/check_controls.py same_curve 2)
+bw_py_test(nonlinear.wall_past_peak_2 "nonlinear;mpi" nonlinear/check_wall_past_peak.py 2)
