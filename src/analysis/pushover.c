@@ -386,7 +386,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   BwHistory      h = {0, 0, NULL, NULL, NULL, NULL, NULL};
   char          *text, stop[1024] = "";
   PetscReal      lambda = 0, peak = -PETSC_MAX_REAL, peak_mon = 0, *load;
-  PetscInt       npeak = 0, nsteps_planned, count[4], its, solves;
+  PetscInt       npeak = 0, nsteps_planned, count[4], crushed = 0, its, solves;
   PetscErrorCode ierr;
   BwResults      res  = {NULL, NULL, NULL, NULL, NULL};
   BwOutputData   data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
@@ -485,13 +485,16 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
     BwJointField field;
     PetscCall(BwNewtonGetSolution(nw, NULL, &field));
     PetscCall(BwJointFieldCount(field, count));
+    PetscCall(BwJointFieldCountCrushed(field, &crushed));
   }
   PetscCall(PetscPrintf(p->comm, "  steps %" PetscInt_FMT " (%" PetscInt_FMT " Newton iterations, %" PetscInt_FMT " linear solves); stop: %s\n", h.n, its, solves, stop));
   PetscCall(PetscPrintf(p->comm, "  peak load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); last: load factor %.6g, monitor %.6g\n", (double)peak, npeak, (double)peak_mon, (double)h.lambda[h.n - 1], (double)h.monitor[h.n - 1]));
   PetscCall(PetscPrintf(p->comm, "  first peak: load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); residual load factor %.6g (%.3g of the peak); dissipated %.6g J\n", (double)cap.first_peak_load_factor, cap.first_peak, (double)cap.first_peak_monitor, (double)cap.residual_load_factor, (double)(cap.residual_load_factor / peak), (double)cap.dissipated_energy));
   if (cap.note[0]) PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): %s; ultimate displacement %.6g\n", cap.note, (double)cap.ultimate_displacement));
   else PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): stiffness %.6g, yield load factor %.6g at %.6g, ultimate displacement %.6g, ductility %.3g\n", (double)cap.stiffness, (double)cap.yield_force, (double)cap.yield_displacement, (double)cap.ultimate_displacement, (double)cap.ductility));
-  PetscCall(PetscPrintf(p->comm, "  joints at the end: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic\n", count[1], count[2], count[3], count[0]));
+  PetscCall(PetscPrintf(p->comm, "  joints at the end: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic", count[1], count[2], count[3], count[0]));
+  if (crushed) PetscCall(PetscPrintf(p->comm, "; %" PetscInt_FMT " crushed (on the cap)", crushed));
+  PetscCall(PetscPrintf(p->comm, "\n"));
   PetscCall(PetscPrintf(p->comm, "  residual of the nonlinear system %.3e; equilibrium error (reactions + loads) %.3e\n", (double)h.residual[h.n - 1], (double)check.equilibrium_error));
   PetscCall(BwProblemPrintTail(p, p->output->file));
   PetscCall(BwReportDestroy(&report));
