@@ -25,6 +25,7 @@ struct _n_BwNewton {
   /* dissipation control: the energy gradient, the last step's balance */
   Vec          g, e, dx3; /* e: the monitor's unit vector; dx3 = K'^-1 e */
   PetscReal    step_work, step_dissipation, last_dlambda, lambda_trial, gross_work;
+  PetscReal    step_plastic; /* the portions' own plastic work of the last converged solve (BwJointFieldPlasticWork) */
 };
 
 PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton)
@@ -511,6 +512,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     *lambda          = lam;
     PetscCall(BwNewtonEnergy(nw, nw->xn, lam0, lam, PETSC_FALSE, &nw->step_work, &nw->step_dissipation, NULL));
     nw->step_work = nw->gross_work;
+    PetscCall(BwJointFieldPlasticWork(nw->field, &nw->step_plastic));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -534,6 +536,13 @@ PetscErrorCode BwNewtonGetStepEnergy(BwNewton nw, PetscReal *work, PetscReal *di
   PetscFunctionBeginUser;
   if (work) *work = nw->step_work;
   if (dissipation) *dissipation = nw->step_dissipation;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonGetStepPlasticWork(BwNewton nw, PetscReal *plastic)
+{
+  PetscFunctionBeginUser;
+  *plastic = nw->step_plastic;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -54,6 +54,11 @@ PetscErrorCode BwNewtonSolveDissipation(BwNewton newton, PetscReal *lambda, Pets
  * the work is counted without cancellation, |constant loads' work| +
  * |the pattern's work|, the scale a dissipation is measured against. */
 PetscErrorCode BwNewtonGetStepEnergy(BwNewton newton, PetscReal *work, PetscReal *dissipation);
+/* The portions' own plastic work over the last converged solve, sum of
+ * A_p r . d jpl (BwJointFieldPlasticWork): zero where nothing flows or a
+ * portion opens without tension, whatever the quadrature error of the
+ * energy balance above. */
+PetscErrorCode BwNewtonGetStepPlasticWork(BwNewton nw, PetscReal *plastic);
 /* The constant loads applied from the unloaded state (mu: 0 -> 1, lambda
  * = 0), under load control, in one step cut in halves where Newton fails
  * (down to min_step) and lengthened again after successes; each converged

@@ -15,6 +15,8 @@ struct _n_BwJointField {
   signed char    *mode, *committed_mode, *seen_mode, *older_mode, *flips;
   PetscInt        flip_limit, quiet;
   PetscReal      *newton_tangent;
+  PetscReal      *stress;   /* the last evaluation's stresses (ns per portion) */
+  const BwPortions *portions;
   PetscInt        nfailed, failed_k;
   int             failed_status;
 };
@@ -50,11 +52,13 @@ PetscErrorCode BwJointFieldCreate(BwMixed mixed, BwJointField *field)
     PetscCall(PetscCalloc5(nst * n + 1, &f->committed, nst * n + 1, &f->trial, ns * ns * n + 1, &f->tangent, ns * n + 1, &f->plastic, ns * ns * n + 1, &f->committed_tangent));
     PetscCall(PetscCalloc5(n + 1, &f->mode, n + 1, &f->committed_mode, n + 1, &f->seen_mode, n + 1, &f->older_mode, n + 1, &f->flips));
     PetscCall(PetscCalloc1(ns * ns * n + 1, &f->newton_tangent));
+    PetscCall(PetscCalloc1(ns * n + 1, &f->stress));
     /* before any evaluation: the elastic tangents */
     for (PetscInt e = 0; e < f->nown; e++)
       for (PetscInt p = f->poff[e]; p < f->poff[e + 1]; p++) BwJointFieldElastic(f, f->own[e], f->tangent + ns * ns * p);
     PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, ns * ns * n));
   }
+  f->portions   = own.portions;
   f->failed_k   = -1;
   f->flip_limit = 2;
   *field        = f;
@@ -68,6 +72,7 @@ PetscErrorCode BwJointFieldDestroy(BwJointField *field)
   PetscCall(PetscFree5((*field)->committed, (*field)->trial, (*field)->tangent, (*field)->plastic, (*field)->committed_tangent));
   PetscCall(PetscFree5((*field)->mode, (*field)->committed_mode, (*field)->seen_mode, (*field)->older_mode, (*field)->flips));
   PetscCall(PetscFree((*field)->newton_tangent));
+  PetscCall(PetscFree((*field)->stress));
   PetscCall(PetscFree((*field)->poff));
   PetscCall(PetscFree(*field));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -93,6 +98,7 @@ PetscErrorCode BwJointFieldLaw(void *ctx, PetscInt e, PetscInt k, const PetscRea
   PetscFunctionBeginUser;
   PetscCall(BwModelInterfaceLaw(f->model, k, &law, par));
   law->kernel((int)ns, (int)np, par, f->committed + f->nst * off, jump, stress, f->tangent + ns * ns * off, f->trial + f->nst * off, f->mode + off, &status);
+  if (status == BW_LAW_OK) PetscCall(PetscArraycpy(f->stress + ns * off, stress, ns * np));
   if (status != BW_LAW_OK) {
     /* a finite stand-in keeps the residual evaluable; the step fails */
     if (!f->nfailed) {
@@ -165,6 +171,22 @@ PetscErrorCode BwJointFieldCommit(BwJointField f)
   PetscCall(PetscArraycpy(f->committed, f->trial, f->nst * n));
   PetscCall(PetscArraycpy(f->committed_mode, f->mode, n));
   PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, f->ns * f->ns * n));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointFieldPlasticWork(BwJointField f, PetscReal *work)
+{
+  static const PetscInt jpl[3] = {BW_LAW_STATE_SLIP, BW_LAW_STATE_OPENING, BW_LAW_STATE_SLIP_B};
+  PetscReal             loc = 0;
+  const PetscInt        ns = f->ns, nst = f->nst;
+
+  PetscFunctionBeginUser;
+  for (PetscInt e = 0; e < f->nown; e++) {
+    const PetscReal *area = f->portions->area + BwPortionsFirst(f->portions, f->own[e]);
+    for (PetscInt p = 0, i = f->poff[e]; i < f->poff[e + 1]; p++, i++)
+      for (PetscInt a = 0; a < ns; a++) loc += area[p] * f->stress[ns * i + a] * (f->trial[nst * i + jpl[a]] - f->committed[nst * i + jpl[a]]);
+  }
+  PetscCallMPI(MPI_Allreduce(&loc, work, 1, MPIU_REAL, MPIU_SUM, f->comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -30,6 +30,12 @@ PetscErrorCode BwJointFieldFailed(BwJointField field, PetscBool *failed, char wh
  * with a zero increment, a portion on its yield surface answers with its
  * elastic stiffness, a poor predictor of a flow that goes on. */
 PetscErrorCode BwJointFieldGetTangents(BwJointField field, PetscBool committed, const PetscReal **tangent);
+/* The plastic work of the step from the committed state to the last
+ * evaluation (collective): sum over portions of A_p r . (jpl - jpl_n), r
+ * the returned stress (backward Euler, as the return mapping itself). Zero
+ * where nothing flows, and where a portion opens without tension (r = 0 on
+ * the cut-off), whatever the quadrature error of an energy balance. */
+PetscErrorCode BwJointFieldPlasticWork(BwJointField field, PetscReal *work);
 /* The trial state becomes the committed one (a converged step). */
 PetscErrorCode BwJointFieldCommit(BwJointField field);
 /* Per owned portion: the committed mode (0 elastic, 1 open, 2 sliding,
