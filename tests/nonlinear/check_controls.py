@@ -91,12 +91,7 @@ def block_scene(m, steps, strength, pattern, dof, target, N=1000.0, kn=1e11, kt=
 def stack_scene(tmp, tphi, target):
     """check_nonlinear.stack's scene (four blocks, body force), the control a placeholder."""
     b, h, e, n = 0.2, 0.2, 0.002, 4
-    g = bw.Geometry(depth=0.1)
-    g.add_block(bw.rectangle(-0.2, -0.2, 0.4, 0.0), sets=["base"])
-    for k in range(n):
-        y0 = e + k * (h + e)
-        g.add_block(bw.rectangle(0, y0, b, y0 + h), sets=["top"] if k == n - 1 else [])
-    g.write(os.path.join(tmp, "stack.h5"))
+    cn.stack_geometry(tmp, b, h, e, n)
     return f"""geometry: {{generator: file, file: stack.h5}}
 joints: {{law: dry, kn: 1.0e12, kt: 4.0e11, thickness: {e}, strength: {{tension: 0, cohesion: 0, friction: {tphi}}}}}
 discretization: {{m: 64}}

@@ -253,15 +253,21 @@ def dilatancy():
     print(f"dilatancy {tpsi}: plateau {lam[-1]:.12g} ({e:.1e}), plastic opening = tan(psi) |slip| = {opening.mean():.3e} m")
 
 
+def stack_geometry(tmp, b=0.2, h=0.2, e=0.002, n=4):
+    """A base and n blocks b x h stacked with gaps e (the top one in set
+    "top"), written to tmp/stack.h5."""
+    g = bw.Geometry(depth=0.1)
+    g.add_block(bw.rectangle(-0.2, -0.2, 0.4, 0.0), sets=["base"])
+    for k in range(n):
+        y0 = e + k * (h + e)
+        g.add_block(bw.rectangle(0, y0, b, y0 + h), sets=["top"] if k == n - 1 else [])
+    g.write(os.path.join(tmp, "stack.h5"))
+
+
 def collapse():
     with tempfile.TemporaryDirectory() as tmp:
         b, h, e, n = 0.2, 0.2, 0.002, 4
-        g = bw.Geometry(depth=0.1)
-        g.add_block(bw.rectangle(-0.2, -0.2, 0.4, 0.0), sets=["base"])
-        for k in range(n):
-            y0 = e + k * (h + e)
-            g.add_block(bw.rectangle(0, y0, b, y0 + h), sets=["top"] if k == n - 1 else [])
-        g.write(os.path.join(tmp, "stack.h5"))
+        stack_geometry(tmp, b, h, e, n)
         text = f"""geometry: {{generator: file, file: stack.h5}}
 joints: {{law: dry, kn: 1.0e12, kt: 4.0e11, thickness: {e}, strength: {{tension: 0, cohesion: 0, friction: 0.6}}}}
 discretization: {{m: 64}}
