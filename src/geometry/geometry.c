@@ -524,6 +524,28 @@ PetscErrorCode BwGeometryExtrude(BwGeometry g)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+void BwGeometryInterfaceLocal(BwGeometry g, PetscInt k, PetscReal xy[])
+{
+  const PetscInt   o = g->poly_offsets[k], nv = g->poly_offsets[k + 1] - o;
+  const PetscReal *G = &g->center[3 * k], *t = &g->frame[9 * k], *b = &g->frame[9 * k + 6];
+  PetscReal        a = 0;
+
+  for (PetscInt v = 0; v < nv; v++) {
+    const PetscReal *x    = &g->poly[3 * (o + v)];
+    PetscReal        r[3] = {x[0] - G[0], x[1] - G[1], x[2] - G[2]};
+    xy[2 * v]             = r[0] * t[0] + r[1] * t[1] + r[2] * t[2];
+    xy[2 * v + 1]         = r[0] * b[0] + r[1] * b[1] + r[2] * b[2];
+  }
+  for (PetscInt v = 0; v < nv; v++) a += xy[2 * v] * xy[2 * ((v + 1) % nv) + 1] - xy[2 * ((v + 1) % nv)] * xy[2 * v + 1];
+  if (a < 0)
+    for (PetscInt v = 0; v < nv / 2; v++)
+      for (int c = 0; c < 2; c++) {
+        PetscReal tmp            = xy[2 * v + c];
+        xy[2 * v + c]            = xy[2 * (nv - 1 - v) + c];
+        xy[2 * (nv - 1 - v) + c] = tmp;
+      }
+}
+
 PetscReal BwGeometryBlockSize(BwGeometry g, PetscInt b)
 {
   return g->dim == 3 ? PetscCbrtReal(g->volume[b]) : PetscSqrtReal(g->area[b]);

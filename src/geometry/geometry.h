@@ -98,6 +98,12 @@ PetscErrorCode BwGeometryComputeCentroids(BwGeometry geom);
  * the frame t = (cos, sin, 0), n = (-sin, cos, 0), b = X3 (the frame rule
  * of model.md gives this frame for these normals). Sets are unchanged. */
 PetscErrorCode BwGeometryExtrude(BwGeometry geom);
+/* 3D: interface k's polygon in its own coordinates (xi, eta) = ((x - G) . t,
+ * (x - G) . b), 2 per vertex into xy[], counter-clockwise in (xi, eta). The
+ * polygon is counter-clockwise about n, so clockwise there (t x b = -n):
+ * the order is reversed by the sign of its area, whatever the input gave.
+ * The point (xi, eta) is G + xi t + eta b. */
+void BwGeometryInterfaceLocal(BwGeometry geom, PetscInt k, PetscReal xy[]);
 /* A length of block b: sqrt(area) in 2D, cbrt(volume) in 3D. */
 PetscReal BwGeometryBlockSize(BwGeometry geom, PetscInt b);
 PetscErrorCode BwGeometryFindSet(BwGeometry geom, const char name[], PetscInt *set);

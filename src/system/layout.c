@@ -89,38 +89,16 @@ static PetscErrorCode BwMixedScales(BwMixed mx)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* 3D: the interface polygons in their own coordinates (xi, eta) = ((x -
- * G) . t, (x - G) . b), counter-clockwise in (xi, eta) (a polygon
- * counter-clockwise about n is clockwise there, t x b = -n: its order is
- * reversed by the sign of its area), cut into portions. */
+/* 3D: the interface polygons in their own coordinates, cut into portions. */
 static PetscErrorCode BwMixedCreatePortions3D(BwMixed mx)
 {
-  BwGeometry      g  = mx->geom;
-  const PetscInt  ni = g->ninterfaces;
-  PetscReal      *local;
+  BwGeometry     g  = mx->geom;
+  const PetscInt ni = g->ninterfaces;
+  PetscReal     *local;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(2 * (size_t)g->poly_offsets[ni] + 1, &local));
-  for (PetscInt k = 0; k < ni; k++) {
-    const PetscInt   o = g->poly_offsets[k], nv = g->poly_offsets[k + 1] - o;
-    const PetscReal *G = &g->center[3 * k], *t = &g->frame[9 * k], *b = &g->frame[9 * k + 6];
-    PetscReal       *xy = local + 2 * o, a = 0;
-
-    for (PetscInt v = 0; v < nv; v++) {
-      const PetscReal *x = &g->poly[3 * (o + v)];
-      PetscReal        r[3] = {x[0] - G[0], x[1] - G[1], x[2] - G[2]};
-      xy[2 * v]             = r[0] * t[0] + r[1] * t[1] + r[2] * t[2];
-      xy[2 * v + 1]         = r[0] * b[0] + r[1] * b[1] + r[2] * b[2];
-    }
-    for (PetscInt v = 0; v < nv; v++) a += xy[2 * v] * xy[2 * ((v + 1) % nv) + 1] - xy[2 * ((v + 1) % nv)] * xy[2 * v + 1];
-    if (a < 0)
-      for (PetscInt v = 0; v < nv / 2; v++)
-        for (int c = 0; c < 2; c++) {
-          PetscReal tmp                 = xy[2 * v + c];
-          xy[2 * v + c]                 = xy[2 * (nv - 1 - v) + c];
-          xy[2 * (nv - 1 - v) + c] = tmp;
-        }
-  }
+  for (PetscInt k = 0; k < ni; k++) BwGeometryInterfaceLocal(g, k, local + 2 * g->poly_offsets[k]);
   PetscCall(BwPortionsCreate3D(ni, g->poly_offsets, local, mx->m, mx->model->mb, &mx->portions));
   PetscCall(PetscFree(local));
   PetscFunctionReturn(PETSC_SUCCESS);

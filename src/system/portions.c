@@ -150,13 +150,17 @@ static void BwPolygonMoments(PetscInt n, const PetscReal p[], PetscReal *area, P
   c[1]  = a != 0 ? cy / (3 * a) : 0;
 }
 
-/* The portions of one polygon into the arrays from index at; returns how many. */
-static PetscInt BwPolygonPortions(PetscInt n, const PetscReal poly[], PetscInt m, PetscInt mb, PetscReal work[], PetscReal area[], PetscReal xi[], PetscReal eta[])
+/* The portions of one polygon into the arrays; returns how many. With
+ * voff non-NULL, also their polygons: portion p's vertices are
+ * voff[p]..voff[p+1]-1 of verts (2 each, voff[0] = 0, counter-clockwise,
+ * at most n + 4 a portion), the clipping that gives its area and centroid. */
+static PetscInt BwPolygonPortions(PetscInt n, const PetscReal poly[], PetscInt m, PetscInt mb, PetscReal work[], PetscReal area[], PetscReal xi[], PetscReal eta[], PetscInt voff[], PetscReal verts[])
 {
   PetscReal lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, A, c[2];
   PetscReal *w0 = work, *w1 = work + 2 * (n + 4);
   PetscInt   np = 0;
 
+  if (voff) voff[0] = 0;
   for (PetscInt v = 0; v < n; v++)
     for (PetscInt a = 0; a < 2; a++) {
       lo[a] = PetscMin(lo[a], poly[2 * v + a]);
@@ -182,6 +186,10 @@ static PetscInt BwPolygonPortions(PetscInt n, const PetscReal poly[], PetscInt m
       area[np] = a;
       xi[np]   = cc[0];
       eta[np]  = cc[1];
+      if (voff) {
+        memcpy(verts + 2 * voff[np], w0, sizeof(PetscReal) * 2 * k);
+        voff[np + 1] = voff[np] + k;
+      }
       np++;
     }
   return np;
@@ -211,6 +219,8 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
   P->dim         = 3;
   P->ninterfaces = n;
   P->maxnp       = 0;
+  P->m           = m;
+  P->mb          = mb;
   for (PetscInt k = 0; k < n; k++) maxv = PetscMax(maxv, offsets[k + 1] - offsets[k]);
   for (PetscInt a = 0; a < 2 * offsets[n]; a++) ext = PetscMax(ext, PetscAbsReal(poly[a]));
   /* Interfaces of one shape share a layout. Their polygons, computed from
@@ -227,6 +237,7 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
   PetscCall(PetscMalloc1(4 * (maxv + 4) + 1, &work));
   PetscCall(PetscMalloc1(n + 1, &P->layout));
   PetscCall(PetscMalloc1(n + 1, &P->offsets));
+  PetscCall(PetscMalloc1(n + 1, &P->first));
   for (PetscInt k = 0; k < n; k++) {
     PetscInt nv = offsets[k + 1] - offsets[k];
     PetscCheck(nv >= 3, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has a polygon of %" PetscInt_FMT " vertices", k, nv);
@@ -262,8 +273,9 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
       P->layout[k] = P->layout[rep[k]];
       continue;
     }
-    np = BwPolygonPortions(nv, poly + 2 * offsets[k], m, mb, work, P->area + used, P->xi + used, P->eta + used);
+    np = BwPolygonPortions(nv, poly + 2 * offsets[k], m, mb, work, P->area + used, P->xi + used, P->eta + used, NULL, NULL);
     PetscCheck(np > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has zero area", k);
+    P->first[P->nlayouts]    = k;
     P->layout[k]             = P->nlayouts;
     P->offsets[P->nlayouts] = used;
     P->nlayouts++;
@@ -282,9 +294,26 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode BwPortionsPolygons3D(const BwPortions *P, PetscInt l, PetscInt nv, const PetscReal poly[], PetscInt voffsets[], PetscReal vertices[])
+{
+  PetscReal *work, *area, *xi, *eta;
+  PetscInt   np, want = P->offsets[l + 1] - P->offsets[l];
+
+  PetscFunctionBeginUser;
+  PetscCheck(P->dim == 3, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "portion polygons are a 3D notion");
+  PetscCall(PetscMalloc4(4 * (nv + 4), &work, P->m * P->mb, &area, P->m * P->mb, &xi, P->m * P->mb, &eta));
+  np = BwPolygonPortions(nv, poly, P->m, P->mb, work, area, xi, eta, voffsets, vertices);
+  PetscCall(PetscFree4(work, area, xi, eta));
+  /* the same polygon through the same clipping: the same portions, or
+   * poly is not the polygon the layout was made from */
+  PetscCheck(np == want, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "layout %" PetscInt_FMT " has %" PetscInt_FMT " portions, the polygon given %" PetscInt_FMT, l, want, np);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwPortionsDestroy(BwPortions *P)
 {
   PetscFunctionBeginUser;
+  PetscCall(PetscFree(P->first));
   PetscCall(PetscFree(P->uniform));
   PetscCall(PetscFree(P->layout));
   PetscCall(PetscFree(P->offsets));

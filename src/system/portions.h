@@ -13,7 +13,9 @@
 typedef struct {
   PetscInt   dim;         /* 2 | 3 */
   PetscInt   ninterfaces, nlayouts, maxnp;
+  PetscInt   m, mb;       /* 3D: the grid of the bounding box */
   PetscInt  *layout;      /* per interface: its layout */
+  PetscInt  *first;       /* 3D, per layout: the interface whose polygon made it (NULL in 2D) */
   PetscInt  *offsets;     /* per layout: its portions offsets[l]..offsets[l+1]-1 */
   PetscReal *area, *xi, *eta, *sqrt_area, *inv_sqrt_area;
   PetscBool *uniform;     /* per layout: all its portions have one area */
@@ -31,6 +33,13 @@ PetscErrorCode BwPortionsCreate2D(PetscInt ninterfaces, const PetscInt pair[], c
  * fastest. Interfaces whose polygons agree to 2^-40 of the largest
  * coordinate share a layout (the portions of the first of them). */
 PetscErrorCode BwPortionsCreate3D(PetscInt ninterfaces, const PetscInt offsets[], const PetscReal poly[], PetscInt m, PetscInt mb, BwPortions *P);
+/* 3D: the polygons of layout l's portions, in their order, as
+ * BwPortionsCreate3D cut them: portion p's vertices (xi, eta),
+ * counter-clockwise, are vertices[2 v], vertices[2 v + 1] for v in
+ * voffsets[p]..voffsets[p+1]-1. poly (nv vertices) is the polygon the
+ * layout was made from, that of interface first[l] as given to
+ * BwPortionsCreate3D. Room: voffsets m mb + 1, vertices 2 (nv + 4) m mb. */
+PetscErrorCode BwPortionsPolygons3D(const BwPortions *P, PetscInt l, PetscInt nv, const PetscReal poly[], PetscInt voffsets[], PetscReal vertices[]);
 PetscErrorCode BwPortionsDestroy(BwPortions *P);
 
 /* Interface k's portions: their number and the first of the arrays. */

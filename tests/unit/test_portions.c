@@ -10,7 +10,13 @@
  *              triangle's (error falling as the cells shrink); a right
  *              triangle on a 2 x 2 grid has 3 portions (the fourth cell
  *              meets it in a point), numbered t fastest
- *   share      equal polygons one after the other share one layout */
+ *   share      equal polygons one after the other share one layout
+ *   polygons   the portions' polygons (BwPortionsPolygons3D) of a hexagon
+ *              on a 5 x 3 grid: their shoelace areas and centroids are the
+ *              portions' (1e-14), every vertex lies inside the hexagon and
+ *              inside its portion's cell of the bounding box (1e-15), the
+ *              areas sum to the hexagon's; a polygon that is not the
+ *              layout's (another count of portions) is an error */
 #include <math.h>
 #include <petscsys.h>
 #include "system/portions.h"
@@ -116,6 +122,58 @@ static PetscErrorCode TestShare(void)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+static PetscErrorCode TestPolygons(void)
+{
+  /* a convex hexagon, counter-clockwise, about the origin */
+  const PetscReal hex[12] = {-0.5, -0.2, 0.1, -0.35, 0.45, -0.05, 0.4, 0.25, -0.1, 0.3, -0.55, 0.1}, box[4] = {-0.55, -0.35, 0.45, 0.3};
+  const PetscReal tri[6]  = {-0.5, -0.3, 0.5, -0.3, 0, 0.3};
+  const PetscInt  off[2] = {0, 6}, m = 5, mb = 3;
+  PetscInt        voff[16], nexpect = 0;
+  PetscReal       verts[2 * (6 + 4) * 15], A = 0, sum = 0;
+  PetscErrorCode  ierr;
+  BwPortions      P;
+
+  PetscFunctionBeginUser;
+  for (int v = 0; v < 6; v++) A += 0.5 * (hex[2 * v] * hex[(2 * v + 3) % 12] - hex[(2 * v + 2) % 12] * hex[2 * v + 1]);
+  PetscCall(BwPortionsCreate3D(1, off, hex, m, mb, &P));
+  PetscCall(BwPortionsPolygons3D(&P, 0, 6, hex, voff, verts));
+  for (PetscInt p = 0; p < BwPortionsCount(&P, 0); p++) {
+    PetscInt  n = voff[p + 1] - voff[p], i = -1, j = -1;
+    PetscReal a = 0, cx = 0, cy = 0, *x = verts + 2 * voff[p];
+    for (PetscInt v = 0; v < n; v++) {
+      PetscReal *s = x + 2 * v, *t = x + 2 * ((v + 1) % n), cr = s[0] * t[1] - t[0] * s[1];
+      a += 0.5 * cr;
+      cx += (s[0] + t[0]) * cr / 6;
+      cy += (s[1] + t[1]) * cr / 6;
+      for (int e = 0; e < 6; e++) {
+        const PetscReal *h = hex + 2 * e, *k = hex + (2 * e + 2) % 12;
+        if ((k[0] - h[0]) * (s[1] - h[1]) - (k[1] - h[1]) * (s[0] - h[0]) < -1e-15) printf("FAIL polygons: portion %d's vertex %d outside the hexagon\n", (int)p, (int)v), failures++;
+      }
+    }
+    expect_close("polygons: area", a, P.area[p], 1e-14, P.area[p]);
+    expect_close("polygons: centroid xi", cx / a, P.xi[p], 1e-14, 1);
+    expect_close("polygons: centroid eta", cy / a, P.eta[p], 1e-14, 1);
+    /* its cell: the one its centroid is in; every vertex within that cell */
+    i = (PetscInt)floor((P.xi[p] - box[0]) / (box[2] - box[0]) * m);
+    j = (PetscInt)floor((P.eta[p] - box[1]) / (box[3] - box[1]) * mb);
+    for (PetscInt v = 0; v < n; v++) {
+      PetscReal X = (x[2 * v] - box[0]) / (box[2] - box[0]) * m, Y = (x[2 * v + 1] - box[1]) / (box[3] - box[1]) * mb;
+      if (X < i - 1e-15 || X > i + 1 + 1e-15 || Y < j - 1e-15 || Y > j + 1 + 1e-15) printf("FAIL polygons: portion %d's vertex %d outside its cell (%d, %d)\n", (int)p, (int)v, (int)i, (int)j), failures++;
+    }
+    sum += a;
+    nexpect++;
+  }
+  expect_close("polygons: sum of areas", sum, A, 1e-14, A);
+  if (nexpect < 12) printf("FAIL polygons: only %d portions\n", (int)nexpect), failures++;
+  /* the triangle is not the hexagon this layout was made from */
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = BwPortionsPolygons3D(&P, 0, 3, tri, voff, verts);
+  PetscCall(PetscPopErrorHandler());
+  if (!ierr) printf("FAIL polygons: a triangle's portions passed for the hexagon's\n"), failures++;
+  PetscCall(BwPortionsDestroy(&P));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 int main(int argc, char **argv)
 {
   const char *which;
@@ -125,6 +183,7 @@ int main(int argc, char **argv)
   if (!strcmp(which, "rectangle") || !strcmp(which, "all")) PetscCall(TestRectangle());
   if (!strcmp(which, "triangle") || !strcmp(which, "all")) PetscCall(TestTriangle());
   if (!strcmp(which, "share") || !strcmp(which, "all")) PetscCall(TestShare());
+  if (!strcmp(which, "polygons") || !strcmp(which, "all")) PetscCall(TestPolygons());
   printf("%s: %s\n", which, failures ? "FAILED" : "passed");
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
