@@ -106,7 +106,7 @@ static PetscErrorCode BwLinearRun(BwAnalysis a, BwProblem *p)
   for (PetscInt c = 0; c < ncases; c++) {
     const char    *name = lin->ncases ? lin->cases[c] : NULL;
     char           file[PETSC_MAX_PATH_LEN + 64];
-    BwResults      res = {NULL, NULL, NULL, NULL, NULL};
+    BwResults      res = {NULL, NULL, NULL, NULL, NULL, NULL};
     BwCheck        check;
     BwReport       report;
     PetscErrorCode ierr;

@@ -218,7 +218,7 @@ static PetscErrorCode BwPushoverResults(BwProblem *p, BwNewton nw, PetscReal lam
 
 static PetscErrorCode BwPushoverWriteStep(BwProblem *p, BwNewton nw, BwOutputFile of, PetscInt step, PetscReal lambda, PetscReal load[])
 {
-  BwResults    res  = {NULL, NULL, NULL, NULL, NULL};
+  BwResults    res  = {NULL, NULL, NULL, NULL, NULL, NULL};
   BwOutputData data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
 
   PetscFunctionBeginUser;
@@ -402,7 +402,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscReal      lambda = 0, peak = -PETSC_MAX_REAL, peak_mon = 0, *load;
   PetscInt       npeak = 0, nsteps_planned, count[4], crushed = 0, its, solves;
   PetscErrorCode ierr;
-  BwResults      res  = {NULL, NULL, NULL, NULL, NULL};
+  BwResults      res  = {NULL, NULL, NULL, NULL, NULL, NULL};
   BwOutputData   data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
   BwCheck        check;
   BwReport       report;

@@ -119,6 +119,9 @@ typedef struct {
   PetscReal *relative;     /* nd per owned interface: dt, dn, phi | dt, dn, db, phit, phin, phib */
   PetscReal *resultant;    /* nd per owned interface: T, N, M | T, N, Tb, Mt, Mn, Mb */
   PetscReal *stress;       /* ns per portion of the owned interfaces, in their order, if asked */
+  PetscReal *pair;         /* 2 nd per owned interface: the displacements of its blocks i and j,
+                              which its rank has at hand and may not own (the XDMF warps the
+                              interfaces by them) */
 } BwResults;
 /* Self-check of a solution x of K x = b: relative norms in the scaled
  * system; the global balance needs the recovered reactions and the loads

@@ -180,7 +180,7 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBo
   PetscCall(BwGhostsGather(mx, x, &gh));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_GATHER], 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESULTS], 0, 0, 0, 0));
-  PetscCall(PetscCalloc5(nd * mx->nown_blocks + 1, &res->displacement, nd * mx->nown_blocks + 1, &res->reaction, nd * mx->nown_interfaces + 1, &res->relative, nd * mx->nown_interfaces + 1, &res->resultant, stresses ? mx->nr_local + 1 : 0, &res->stress));
+  PetscCall(PetscCalloc6(nd * mx->nown_blocks + 1, &res->displacement, nd * mx->nown_blocks + 1, &res->reaction, nd * mx->nown_interfaces + 1, &res->relative, nd * mx->nown_interfaces + 1, &res->resultant, stresses ? mx->nr_local + 1 : 0, &res->stress, 2 * nd * mx->nown_interfaces + 1, &res->pair));
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
     PetscInt         k = mx->own_interfaces[e], i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
     const PetscReal *qi, *qj, *area, *xi, *eta;
@@ -193,6 +193,8 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBo
     PetscCall(BwGhostStress(mx, &gh, k, r));
     PetscCall(BwGhostBlock(&gh, i, &qi));
     PetscCall(BwGhostBlock(&gh, j, &qj));
+    PetscCall(PetscArraycpy(&res->pair[2 * nd * e], qi, nd));
+    PetscCall(PetscArraycpy(&res->pair[2 * nd * e + nd], qj, nd));
     PetscCall(BwMixedCompatibility(mx, k, rb));
     for (PetscInt a = 0; a < nd; a++) {
       dg[a] = 0;
@@ -238,7 +240,7 @@ PetscErrorCode BwMixedRecover(BwMixed mx, Vec x, const PetscReal load[], PetscBo
 PetscErrorCode BwResultsFree(BwResults *res)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFree5(res->displacement, res->reaction, res->relative, res->resultant, res->stress));
+  PetscCall(PetscFree6(res->displacement, res->reaction, res->relative, res->resultant, res->stress, res->pair));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
