@@ -121,6 +121,70 @@ static PetscErrorCode BwOutputPortionRows(const BwMixedOwnership *own, int64_t *
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Whether the file has /portions datasets (3D, stresses or a pushover's
+ * states), and so the XDMF a portions grid. */
+static PetscBool BwOutputHasPortions(BwOutput out, BwGeometry geom, const BwOutputData *data)
+{
+  return geom->dim == 3 && (out->stresses || data->state) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* What XDMF needs that the schema lacks (xdmf.h): the connectivity and, of
+ * the state under `group` ("/xdmf" for the final state), the point
+ * displacements; step: only the latter, under a new group
+ * "/xdmf/steps/NNNNNN". */
+static PetscErrorCode BwOutputWriteXdmf(BwH5File h, const char group[], BwGeometry geom, const BwMixedOwnership *own, const BwResults *res, PetscBool portions, PetscBool step)
+{
+  BwXdmfData x;
+  char       name[128];
+  hsize_t    dims[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(BwXdmfDataCreate(geom, own, res, portions, &x));
+  /* the group after the data, as the writer did before the portions
+   * came: a pushover's path follows round-off, and with the group first
+   * J4D to 4 mm in 6 steps on 2 ranks moved by 2e-16 at step 1 and took
+   * 27 steps instead of 22 */
+  if (step) PetscCall(BwH5FileGroup(h, group));
+  else {
+    dims[0] = (hsize_t)x.ntopology;
+    PetscCall(BwH5FileWriteAll(h, "/xdmf/topology", H5T_NATIVE_INT64, 1, dims, x.topology));
+    if (geom->dim == 3) {
+      dims[0] = (hsize_t)x.ninterface_topology;
+      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 1, dims, x.interface_topology));
+    } else {
+      dims[0] = 2 * (hsize_t)geom->ninterfaces;
+      dims[1] = 2;
+      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_points", H5T_NATIVE_DOUBLE, 2, dims, x.interface_points));
+      dims[0] = (hsize_t)geom->ninterfaces;
+      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 2, dims, x.interface_topology));
+    }
+    if (portions) {
+      /* ragged like the portions: each rank its interfaces' rows */
+      dims[0] = (hsize_t)x.nportion_points;
+      dims[1] = 3;
+      PetscCall(BwH5FileWrite(h, "/xdmf/portion_points", H5T_NATIVE_DOUBLE, 2, dims, x.nportion_rows, x.portion_rows, x.portion_points));
+      dims[0] = (hsize_t)x.nportion_topology;
+      PetscCall(BwH5FileWrite(h, "/xdmf/portion_topology", H5T_NATIVE_INT64, 1, dims, x.nportion_topology_rows, x.portion_topology_rows, x.portion_topology));
+    }
+  }
+  dims[0] = (hsize_t)geom->offsets[geom->nblocks];
+  dims[1] = 3;
+  PetscCall(PetscSNPrintf(name, sizeof(name), "%s/vertex_displacement", group));
+  PetscCall(BwH5FileWrite(h, name, H5T_NATIVE_DOUBLE, 2, dims, x.nvertex_rows, x.vertex_rows, x.vertex_displacement));
+  if (geom->dim == 3) {
+    dims[0] = (hsize_t)geom->poly_offsets[geom->ninterfaces];
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%s/interface_displacement", group));
+    PetscCall(BwH5FileWrite(h, name, H5T_NATIVE_DOUBLE, 2, dims, x.ninterface_rows, x.interface_rows, x.interface_displacement));
+  }
+  if (portions) {
+    dims[0] = (hsize_t)x.nportion_points;
+    PetscCall(PetscSNPrintf(name, sizeof(name), "%s/portion_displacement", group));
+    PetscCall(BwH5FileWrite(h, name, H5T_NATIVE_DOUBLE, 2, dims, x.nportion_rows, x.portion_rows, x.portion_displacement));
+  }
+  PetscCall(BwXdmfDataDestroy(&x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* The 3D schema (interface.md, "HDF5 output, 3D"): geometry replicated,
  * results at their input indices, portions ragged. */
 static PetscErrorCode BwOutputWrite3D(BwOutput out, BwH5File h, const BwOutputData *data, const BwMixedOwnership *own, BwModel model)
@@ -186,7 +250,7 @@ static PetscErrorCode BwOutputWrite3D(BwOutput out, BwH5File h, const BwOutputDa
   dims[0] = (hsize_t)ni;
   PetscCall(BwH5FileWrite(h, "/interfaces/relative_displacement", H5T_NATIVE_DOUBLE, 2, dims, own->nown_interfaces, own->own_interfaces, res->relative));
   PetscCall(BwH5FileWrite(h, "/interfaces/resultant", H5T_NATIVE_DOUBLE, 2, dims, own->nown_interfaces, own->own_interfaces, res->resultant));
-  if (out->stresses || data->state) {
+  if (BwOutputHasPortions(out, geom, data)) {
     const BwPortions *P = own->portions;
     PetscReal        *cen, *area;
     PetscInt          n = 0;
@@ -324,26 +388,7 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwOutput
     PetscCall(BwH5FileWriteAll(h, "/history/iterations", H5T_NATIVE_INT64, 1, dims, its));
     PetscCall(PetscFree(its));
   }
-  if (out->xdmf) { /* what the .xdmf beside this file needs and the schema lacks (xdmf.h) */
-    BwXdmfData x;
-    PetscCall(BwXdmfDataCreate(geom, own.nown_blocks, own.own_blocks, res->displacement, &x));
-    dims[0] = (hsize_t)x.ntopology;
-    PetscCall(BwH5FileWriteAll(h, "/xdmf/topology", H5T_NATIVE_INT64, 1, dims, x.topology));
-    if (geom->dim == 3) {
-      dims[0] = (hsize_t)x.ninterface_topology;
-      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 1, dims, x.interface_topology));
-    } else {
-      dims[0] = 2 * (hsize_t)ni;
-      dims[1] = 2;
-      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_points", H5T_NATIVE_DOUBLE, 2, dims, x.interface_points));
-      dims[0] = (hsize_t)ni;
-      PetscCall(BwH5FileWriteAll(h, "/xdmf/interface_topology", H5T_NATIVE_INT64, 2, dims, x.interface_topology));
-    }
-    dims[0] = (hsize_t)geom->offsets[nb];
-    dims[1] = 3;
-    PetscCall(BwH5FileWrite(h, "/xdmf/vertex_displacement", H5T_NATIVE_DOUBLE, 2, dims, x.nvertex_rows, x.vertex_rows, x.vertex_displacement));
-    PetscCall(BwXdmfDataDestroy(&x));
-  }
+  if (out->xdmf) PetscCall(BwOutputWriteXdmf(h, "/xdmf", geom, &own, res, BwOutputHasPortions(out, geom, data), PETSC_FALSE));
 
   /* attributes */
   PetscCall(BwH5FileAttrString(h, "/", "version", BW_VERSION));
@@ -438,21 +483,37 @@ static PetscLogDouble BwOutputBytes(BwOutput out, BwMixed mx, const char scene_t
   if (g->dim == 3) {
     /* vertices, offsets, centroid, load, prescribed, displacement, reaction;
      * interfaces: blocks, center, frame, area, kn, kt, polygons, relative
-     * displacement, resultant; portions: centre, area, stress, offsets */
-    PetscLogDouble np = ni * model->m * model->mb, nw = g->poly_offsets[g->ninterfaces];
+     * displacement, resultant; portions (with stresses or states): centre,
+     * area, offsets, stress, state and plastic jump. A portion polygon's
+     * points are its cell's corners inside the interface, the interface's
+     * corners inside the cell and the crossings of grid lines and edges
+     * (each line crosses a convex polygon twice, each crossing a point of
+     * two cells): at most 4 m m_b + 4 (m + m_b) + 4 nv per interface. */
+    const PetscInt  m = model->m, mb = model->mb;
+    PetscLogDouble  np = ni * m * mb, nw = g->poly_offsets[g->ninterfaces], npt = ni * (4.0 * m * mb + 4.0 * (m + mb)) + 4 * nw;
+    const PetscBool portions = out->stresses || model->nonlinear;
     bytes = nv * 24 + (nb + 1) * 8 + nb * (24 + 48 + 6 + 48 + 48) + ni * (16 + 24 + 72 + 8 + 8 + 8 + 8 + 48 + 48) + nw * 24;
-    if (out->stresses) bytes += np * (16 + 8 + 24) + ni * 8;
+    if (portions) bytes += np * (16 + 8) + ni * 8;
+    if (out->stresses) bytes += np * 24;
+    if (model->nonlinear) bytes += np * 25;
+    /* XDMF: the polyhedra's and polygons' Mixed lists, the point
+     * displacements of blocks and interfaces; portions: their points, Mixed
+     * list (type, count, ids) and point displacements */
+    if (out->xdmf) bytes += (g->face_voffsets[g->face_offsets[g->nblocks]] + 2 * nb + g->face_offsets[g->nblocks]) * 8.0 + (nw + 2 * ni) * 8.0 + nv * 24 + nw * 24;
+    if (out->xdmf && portions) bytes += npt * (24 + 8 + 24) + np * 16;
+    /* each step: displacement, reaction, resultant, relative displacement,
+     * the portions' state and stresses, the point displacements for XDMF */
+    bytes += nsteps * (nb * 96.0 + ni * 96.0 + np * ((model->nonlinear ? 1 : 0) + (out->stresses ? 24 : 0)) + (out->xdmf ? (nv + nw + (portions ? npt : 0)) * 24.0 : 0) + 4096);
   } else {
     bytes = nv * 16 + (nb + 1) * 8 + nb * (16 + 24 + 3 + 24 + 24) + ni * (16 + 16 + 8 + 8 + 8 + 8 + 24 + 24);
     if (out->stresses) bytes += ni * model->m * 16;
+    if (out->xdmf) bytes += (nv + 2 * nb) * 8 + ni * (32 + 16) + nv * 24;
+    if (model->nonlinear) bytes += ni * model->m * 17.0;
+    /* each step: displacement, reaction, resultant, relative displacement,
+     * state, the stresses if asked, the vertex displacement for XDMF */
+    bytes += nsteps * (nb * 48.0 + ni * (48.0 + model->m * (1 + (out->stresses ? 16 : 0))) + (out->xdmf ? nv * 24.0 : 0) + 4096);
   }
   bytes += g->setoffsets[g->nsets] * 8.0 + g->nsets * 1024.0;
-  if (out->xdmf && g->dim == 3) bytes += (g->face_voffsets[g->face_offsets[g->nblocks]] + 2 * nb + g->face_offsets[g->nblocks]) * 8.0 + (g->poly_offsets[g->ninterfaces] + 2 * ni) * 8.0 + nv * 24;
-  else if (out->xdmf) bytes += (nv + 2 * nb) * 8 + ni * (32 + 16) + nv * 24;
-  if (model->nonlinear) bytes += ni * model->m * 17.0;
-  /* each step: displacement, reaction, resultant, relative displacement,
-   * state, the stresses if asked, the vertex displacement for XDMF */
-  bytes += nsteps * (nb * 48.0 + ni * (48.0 + model->m * (1 + (out->stresses ? 16 : 0))) + (out->xdmf ? nv * 24.0 : 0) + 4096);
   bytes += 2.0 * strlen(scene_text) + 65536 + 64 * 1024.0;
   return 1.05 * bytes;
 }
@@ -635,15 +696,8 @@ static PetscErrorCode BwOutputWriteStepData(BwOutputFile of, PetscInt step, cons
     }
   }
   if (out->xdmf) {
-    BwXdmfData x;
-    PetscCall(BwXdmfDataCreate(model->geom, own.nown_blocks, own.own_blocks, res->displacement, &x));
     PetscCall(PetscSNPrintf(name, sizeof(name), "/xdmf/steps/%06" PetscInt_FMT, step));
-    PetscCall(BwH5FileGroup(of->h, name));
-    PetscCall(PetscSNPrintf(name, sizeof(name), "/xdmf/steps/%06" PetscInt_FMT "/vertex_displacement", step));
-    dims[0] = (hsize_t)model->geom->offsets[own.nblocks];
-    dims[1] = 3;
-    PetscCall(BwH5FileWrite(of->h, name, H5T_NATIVE_DOUBLE, 2, dims, x.nvertex_rows, x.vertex_rows, x.vertex_displacement));
-    PetscCall(BwXdmfDataDestroy(&x));
+    PetscCall(BwOutputWriteXdmf(of->h, name, model->geom, &own, res, BwOutputHasPortions(out, model->geom, data), PETSC_TRUE));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -665,15 +719,17 @@ PetscErrorCode BwOutputWriteStep(BwOutputFile of, PetscInt step, const BwOutputD
 
 PetscErrorCode BwOutputClose(BwOutputFile *ofp, const BwOutputData *data, const BwOutputHistory *history, BwLog *log)
 {
-  BwOutputFile   of = *ofp;
-  BwOutput       out = of->out;
-  BwModel        model;
-  char           msg[3 * PETSC_MAX_PATH_LEN] = "";
-  int            ok = 1;
-  PetscErrorCode ierr, cerr;
+  BwOutputFile     of = *ofp;
+  BwOutput         out = of->out;
+  BwModel          model;
+  BwMixedOwnership own;
+  char             msg[3 * PETSC_MAX_PATH_LEN] = "";
+  int              ok = 1;
+  PetscErrorCode   ierr, cerr;
 
   PetscFunctionBeginUser;
   PetscCall(BwMixedGetModel(of->mixed, &model));
+  PetscCall(BwMixedGetOwnership(of->mixed, &own));
   /* every rank takes the same path through the file, failed or not */
   ierr = BwOutputWriteFile(out, of->h, data, history, of->nsteps > 0 ? PETSC_TRUE : PETSC_FALSE, log);
   cerr = BwH5FileClose(&of->h);
@@ -691,7 +747,7 @@ PetscErrorCode BwOutputClose(BwOutputFile *ofp, const BwOutputData *data, const 
     const char *from[2] = {of->xtmp, of->tmp}, *to[2] = {of->xdmf, of->file};
     int         n = out->xdmf ? 2 : 1, failed;
     errno = 0;
-    if (out->xdmf && BwXdmfWrite(of->file, of->xtmp, model->geom, of->nsteps, of->steps, data->state && model->geom->dim == 2 ? model->m : 0, out->stresses)) {
+    if (out->xdmf && BwXdmfWrite(of->file, of->xtmp, model->geom, BwOutputHasPortions(out, model->geom, data) ? own.portions : NULL, of->nsteps, of->steps, data->state ? model->m : 0, out->stresses)) {
       ok = 0;
       snprintf(msg, sizeof(msg), "output.xdmf: cannot write '%s'%s%s; nothing was written", of->xdmf, errno ? ": " : "", errno ? strerror(errno) : "");
     } else if (BwRenameAll(n, out->xdmf ? from : from + 1, out->xdmf ? to : to + 1, &failed)) {

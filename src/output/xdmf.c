@@ -1,9 +1,9 @@
 /* The XDMF file beside the HDF5 result (see xdmf.h for what it describes).
  *
  * Layout, and why:
- * - One Domain with two Uniform grids, "blocks" and "interfaces": ParaView
- *   opens them as one multiblock data set, so blocks and interfaces can be
- *   shown and coloured independently.
+ * - One Domain with two Uniform grids, "blocks" and "interfaces" (in 3D
+ *   with /portions datasets a third, "portions"): ParaView opens them as
+ *   one multiblock data set, so each can be shown and coloured on its own.
  * - Blocks: a Mixed topology, because blocks may have different vertex
  *   counts (a file geometry may hold any polygon). Each cell is its XDMF
  *   type code followed by its vertex ids; a Polygon (code 3) also carries
@@ -23,6 +23,17 @@
  *   with 3 components so that Warp By Vector moves the polygons' corners
  *   (a cell field cannot warp anything). The per-portion stresses (I, m, 2)
  *   are no field of a line cell and are left to the HDF5 file.
+ * - 3D: a block is a Polyhedron cell (its faces), u(x) = u + w x (x - c);
+ *   an interface is its polygon (/interfaces/vertices). A portion is the
+ *   polygon BwPortionsCreate3D cut, the m x m_b cell of the interface's
+ *   bounding box clipped to it, at G + xi t + eta b, one cell per row of
+ *   the /portions datasets, so that stress, state, plastic_jump and area
+ *   are its cell fields. Interfaces and portions lie between two blocks that move
+ *   apart: their point field vertex_displacement is the mean of the two
+ *   blocks' u + w x (x - c), which keeps them midway, as the mid-plane is.
+ *   Each interface's portions are written by the rank that owns it, one
+ *   point per polygon corner (a corner shared by two portions is written
+ *   twice: rows then follow the portions, not a search for neighbours).
  * - Keys in their XDMF 2 spelling (TopologyType, GeometryType,
  *   AttributeType, NumberType), which XDMF 3 readers accept as well, so
  *   ParaView's Xdmf3 readers and its legacy Xdmf reader both open the file. */
@@ -84,9 +95,138 @@ static PetscInt BwXdmfInterfaceTopologyLength(BwGeometry g)
   return len;
 }
 
-/* 3D: the polyhedra, the interface polygons, and u + w x (x - c) at the
- * vertices of the owned blocks. */
-static PetscErrorCode BwXdmfDataCreate3D(BwGeometry geom, PetscInt nown, const PetscInt own[], const PetscReal displacement[], BwXdmfData *x)
+/* u + w x (x - c) of the rigid motion q = (u, w) of a block of centroid
+ * c at x, times s, added to out[3]. */
+static void BwXdmfAddRigidMotion(const PetscReal q[6], const PetscReal c[3], const PetscReal x[3], PetscReal s, PetscReal out[3])
+{
+  const PetscReal *u = q, *w = q + 3, r[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+
+  out[0] += s * (u[0] + w[1] * r[2] - w[2] * r[1]);
+  out[1] += s * (u[1] + w[2] * r[0] - w[0] * r[2]);
+  out[2] += s * (u[2] + w[0] * r[1] - w[1] * r[0]);
+}
+
+/* The displacement of a point x of interface k whose blocks' rigid
+ * motions are pair[0..6) and pair[6..12): the mean of the two. */
+static void BwXdmfInterfaceMotion(BwGeometry geom, PetscInt k, const PetscReal pair[], const PetscReal x[3], PetscReal out[3])
+{
+  out[0] = out[1] = out[2] = 0;
+  BwXdmfAddRigidMotion(pair, geom->centroid + 3 * geom->pair[2 * k], x, 0.5, out);
+  BwXdmfAddRigidMotion(pair + 6, geom->centroid + 3 * geom->pair[2 * k + 1], x, 0.5, out);
+}
+
+/* 3D portions: every layout's portion polygons in (xi, eta), cut from the
+ * polygon the layout was made from (BwPortionsPolygons3D), and where each
+ * interface's portions go in /xdmf/portion_points and portion_topology. An
+ * interface of a layout takes that layout's polygons in its own frame: its
+ * portions, areas and centroids are the layout's. */
+typedef struct {
+  PetscInt  *voff;   /* per entry p of the portions' arrays (P->offsets): its vertices voff[p]..voff[p+1]-1 */
+  PetscReal *verts;  /* 2 per vertex, counter-clockwise in (xi, eta) */
+  PetscInt  *points, *topology; /* per interface + 1: offsets of its rows in the two datasets */
+} BwXdmfLayouts;
+
+static PetscErrorCode BwXdmfLayoutsCreate(BwGeometry geom, const BwPortions *P, BwXdmfLayouts *L)
+{
+  const PetscInt ni = geom->ninterfaces, np = P->offsets[P->nlayouts], mm = P->m * P->mb;
+  PetscInt       maxv = 0, *lv, *lpoints, *ltopology;
+  PetscReal     *local;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < ni; k++) maxv = PetscMax(maxv, geom->poly_offsets[k + 1] - geom->poly_offsets[k]);
+  PetscCall(PetscMalloc4(np + 1, &L->voff, 2 * (maxv + 4) * np + 1, &L->verts, ni + 1, &L->points, ni + 1, &L->topology));
+  PetscCall(PetscMalloc4(2 * maxv, &local, mm + 1, &lv, P->nlayouts + 1, &lpoints, P->nlayouts + 1, &ltopology));
+  L->voff[0] = 0;
+  for (PetscInt l = 0; l < P->nlayouts; l++) {
+    const PetscInt k = P->first[l], o = P->offsets[l], n = P->offsets[l + 1] - o;
+    BwGeometryInterfaceLocal(geom, k, local);
+    PetscCall(BwPortionsPolygons3D(P, l, geom->poly_offsets[k + 1] - geom->poly_offsets[k], local, lv, L->verts + 2 * L->voff[o]));
+    ltopology[l] = 0;
+    for (PetscInt p = 0; p < n; p++) {
+      L->voff[o + p + 1] = L->voff[o] + lv[p + 1];
+      ltopology[l] += 1 + (BwXdmfPolygonType(lv[p + 1] - lv[p]) == BW_XDMF_POLYGON) + lv[p + 1] - lv[p];
+    }
+    lpoints[l] = lv[n];
+  }
+  L->points[0] = L->topology[0] = 0;
+  for (PetscInt k = 0; k < ni; k++) {
+    L->points[k + 1]   = L->points[k] + lpoints[P->layout[k]];
+    L->topology[k + 1] = L->topology[k] + ltopology[P->layout[k]];
+  }
+  PetscCall(PetscFree4(local, lv, lpoints, ltopology));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwXdmfLayoutsDestroy(BwXdmfLayouts *L)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree4(L->voff, L->verts, L->points, L->topology));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* 3D, the owned interfaces' portions: their polygons at G + xi t + eta b,
+ * each counter-clockwise about n as the interface polygons are (so its
+ * (xi, eta) order reversed, t x b = -n), as Mixed cells of their points,
+ * and the interface motion at every point. */
+static PetscErrorCode BwXdmfPortionsCreate(BwGeometry geom, const BwMixedOwnership *own, const PetscReal pair[], BwXdmfData *x)
+{
+  const BwPortions *P = own->portions;
+  BwXdmfLayouts     L;
+  PetscInt          n = 0, nt = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwXdmfLayoutsCreate(geom, P, &L));
+  x->nportion_points   = L.points[geom->ninterfaces];
+  x->nportion_topology = L.topology[geom->ninterfaces];
+  for (PetscInt e = 0; e < own->nown_interfaces; e++) {
+    PetscInt k = own->own_interfaces[e];
+    x->nportion_rows += L.points[k + 1] - L.points[k];
+    x->nportion_topology_rows += L.topology[k + 1] - L.topology[k];
+  }
+  PetscCall(PetscMalloc5(x->nportion_rows + 1, &x->portion_rows, 3 * x->nportion_rows + 1, &x->portion_points, 3 * x->nportion_rows + 1, &x->portion_displacement, x->nportion_topology_rows + 1, &x->portion_topology_rows, x->nportion_topology_rows + 1, &x->portion_topology));
+  for (PetscInt e = 0; e < own->nown_interfaces; e++) {
+    const PetscInt   k = own->own_interfaces[e], l = P->layout[k];
+    const PetscReal *G = geom->center + 3 * k, *t = geom->frame + 9 * k, *b = t + 6;
+    PetscInt         point = L.points[k];
+
+    for (PetscInt r = L.topology[k]; r < L.topology[k + 1]; r++) x->portion_topology_rows[nt + r - L.topology[k]] = r;
+    for (PetscInt p = P->offsets[l]; p < P->offsets[l + 1]; p++) {
+      const PetscInt nv = L.voff[p + 1] - L.voff[p];
+      const int      type = BwXdmfPolygonType(nv);
+      x->portion_topology[nt++] = type;
+      if (type == BW_XDMF_POLYGON) x->portion_topology[nt++] = nv;
+      for (PetscInt v = L.voff[p + 1] - 1; v >= L.voff[p]; v--, n++) {
+        const PetscReal xi = L.verts[2 * v], eta = L.verts[2 * v + 1];
+        PetscReal      *X = x->portion_points + 3 * n;
+        for (int d = 0; d < 3; d++) X[d] = G[d] + xi * t[d] + eta * b[d];
+        BwXdmfInterfaceMotion(geom, k, pair + 12 * e, X, x->portion_displacement + 3 * n);
+        x->portion_rows[n]        = point;
+        x->portion_topology[nt++] = point++;
+      }
+    }
+  }
+  PetscCall(BwXdmfLayoutsDestroy(&L));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The rows offsets[o]..offsets[o+1]-1 of the owned objects o = own[e]
+ * (ascending), and room for 3 values a row. */
+static PetscErrorCode BwXdmfOwnedRows(PetscInt nown, const PetscInt own[], const PetscInt offsets[], PetscInt *n, PetscInt **rows, PetscReal **values)
+{
+  PetscFunctionBeginUser;
+  *n = 0;
+  for (PetscInt e = 0; e < nown; e++) *n += offsets[own[e] + 1] - offsets[own[e]];
+  PetscCall(PetscMalloc2(*n + 1, rows, 3 * *n + 1, values));
+  *n = 0;
+  for (PetscInt e = 0; e < nown; e++)
+    for (PetscInt v = offsets[own[e]]; v < offsets[own[e] + 1]; v++) (*rows)[(*n)++] = v;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* 3D: the polyhedra, the interface polygons, u + w x (x - c) at the
+ * vertices of the owned blocks and the interface motion at those of the
+ * owned interfaces' polygons (and portions). */
+static PetscErrorCode BwXdmfDataCreate3D(BwGeometry geom, const BwMixedOwnership *own, const BwResults *res, PetscBool portions, BwXdmfData *x)
 {
   PetscInt nb = geom->nblocks, ni = geom->ninterfaces, k = 0;
 
@@ -110,31 +250,34 @@ static PetscErrorCode BwXdmfDataCreate3D(BwGeometry geom, PetscInt nown, const P
     if (type == BW_XDMF_POLYGON) x->interface_topology[k++] = nv;
     for (PetscInt v = geom->poly_offsets[i]; v < geom->poly_offsets[i + 1]; v++) x->interface_topology[k++] = v;
   }
-  for (PetscInt e = 0; e < nown; e++) x->nvertex_rows += geom->offsets[own[e] + 1] - geom->offsets[own[e]];
-  PetscCall(PetscMalloc2(x->nvertex_rows + 1, &x->vertex_rows, 3 * x->nvertex_rows + 1, &x->vertex_displacement));
+  PetscCall(BwXdmfOwnedRows(own->nown_blocks, own->own_blocks, geom->offsets, &x->nvertex_rows, &x->vertex_rows, &x->vertex_displacement));
   k = 0;
-  for (PetscInt e = 0; e < nown; e++) {
-    PetscInt         b = own[e];
-    const PetscReal *u = displacement + 6 * e, *w = u + 3, *c = geom->centroid + 3 * b;
+  for (PetscInt e = 0; e < own->nown_blocks; e++) {
+    PetscInt b = own->own_blocks[e];
     for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++, k++) {
-      const PetscReal *p = geom->vertices + 3 * v, r[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]};
-      x->vertex_rows[k]                 = v;
-      x->vertex_displacement[3 * k]     = u[0] + w[1] * r[2] - w[2] * r[1];
-      x->vertex_displacement[3 * k + 1] = u[1] + w[2] * r[0] - w[0] * r[2];
-      x->vertex_displacement[3 * k + 2] = u[2] + w[0] * r[1] - w[1] * r[0];
+      PetscReal *out = x->vertex_displacement + 3 * k;
+      out[0] = out[1] = out[2] = 0;
+      BwXdmfAddRigidMotion(res->displacement + 6 * e, geom->centroid + 3 * b, geom->vertices + 3 * v, 1, out);
     }
   }
+  PetscCall(BwXdmfOwnedRows(own->nown_interfaces, own->own_interfaces, geom->poly_offsets, &x->ninterface_rows, &x->interface_rows, &x->interface_displacement));
+  k = 0;
+  for (PetscInt e = 0; e < own->nown_interfaces; e++) {
+    PetscInt i = own->own_interfaces[e];
+    for (PetscInt v = geom->poly_offsets[i]; v < geom->poly_offsets[i + 1]; v++, k++) BwXdmfInterfaceMotion(geom, i, res->pair + 12 * e, geom->poly + 3 * v, x->interface_displacement + 3 * k);
+  }
+  if (portions) PetscCall(BwXdmfPortionsCreate(geom, own, res->pair, x));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwXdmfDataCreate(BwGeometry geom, PetscInt nown, const PetscInt own[], const PetscReal displacement[], BwXdmfData *x)
+PetscErrorCode BwXdmfDataCreate(BwGeometry geom, const BwMixedOwnership *own, const BwResults *res, PetscBool portions, BwXdmfData *x)
 {
   PetscInt nb = geom->nblocks, ni = geom->ninterfaces, k = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(x, sizeof(*x)));
   if (geom->dim == 3) {
-    PetscCall(BwXdmfDataCreate3D(geom, nown, own, displacement, x));
+    PetscCall(BwXdmfDataCreate3D(geom, own, res, portions, x));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   x->ntopology           = BwXdmfTopologyLength(geom);
@@ -155,12 +298,12 @@ PetscErrorCode BwXdmfDataCreate(BwGeometry geom, PetscInt nown, const PetscInt o
     x->interface_topology[2 * i]     = 2 * i;
     x->interface_topology[2 * i + 1] = 2 * i + 1;
   }
-  for (PetscInt e = 0; e < nown; e++) x->nvertex_rows += geom->offsets[own[e] + 1] - geom->offsets[own[e]];
+  for (PetscInt e = 0; e < own->nown_blocks; e++) x->nvertex_rows += geom->offsets[own->own_blocks[e] + 1] - geom->offsets[own->own_blocks[e]];
   PetscCall(PetscMalloc2(x->nvertex_rows + 1, &x->vertex_rows, 3 * x->nvertex_rows + 1, &x->vertex_displacement));
   k = 0;
-  for (PetscInt e = 0; e < nown; e++) {
-    PetscInt         b = own[e];
-    const PetscReal *u = displacement + 3 * e, *c = geom->centroid + 2 * b;
+  for (PetscInt e = 0; e < own->nown_blocks; e++) {
+    PetscInt         b = own->own_blocks[e];
+    const PetscReal *u = res->displacement + 3 * e, *c = geom->centroid + 2 * b;
     for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++, k++) {
       const PetscReal *p = geom->vertices + 2 * v;
       x->vertex_rows[k]                 = v;
@@ -177,6 +320,8 @@ PetscErrorCode BwXdmfDataDestroy(BwXdmfData *x)
   PetscFunctionBeginUser;
   PetscCall(PetscFree3(x->topology, x->interface_points, x->interface_topology));
   PetscCall(PetscFree2(x->vertex_rows, x->vertex_displacement));
+  PetscCall(PetscFree2(x->interface_rows, x->interface_displacement));
+  PetscCall(PetscFree5(x->portion_rows, x->portion_points, x->portion_displacement, x->portion_topology_rows, x->portion_topology));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -233,12 +378,19 @@ static PetscErrorCode BwXdmfField(FILE *fp, const char ref[], const char name[],
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The two grids of one state: `at` is "" for the file's final state, or
- * a step's group "/steps/NNNNNN" (with "/xdmf/steps/NNNNNN" for its vertex
- * displacement); `ind` the indentation. */
-static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, const char at[], PetscInt step, PetscInt m_state)
+/* The 3D portions grid's sizes: cells, points, the Mixed list's length
+ * (nportions 0: no portions grid). */
+typedef struct {
+  PetscInt  nportions, npoints, ntopology;
+  PetscBool stresses;
+} BwXdmfPortionGrid;
+
+/* The grids of one state: `at` is "" for the file's final state, or a
+ * step's group "/steps/NNNNNN" (with "/xdmf/steps/NNNNNN" for its point
+ * displacements). m_state > 0: a pushover's portion states are fields. */
+static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, const BwXdmfPortionGrid *pg, const char at[], PetscInt step, PetscInt m_state)
 {
-  char           dims[64], path[128], topo[128];
+  char           dims[64], path[128], topo[128], xat[64];
   PetscInt       nb = geom->nblocks, nv = geom->offsets[nb], ni = geom->ninterfaces;
   const PetscInt d = geom->dim, nd = d == 3 ? 6 : 3;
   const char    *xy = d == 3 ? "XYZ" : "XY";
@@ -252,8 +404,9 @@ static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, c
   PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " %" PetscInt_FMT, nv, d));
   PetscCall(BwXdmfItem(fp, "        ", ref, "/blocks/vertices", dims, "Float", 8));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
-  if (step >= 0) PetscCall(PetscSNPrintf(topo, sizeof(topo), "/xdmf/steps/%06" PetscInt_FMT "/vertex_displacement", step));
-  else PetscCall(PetscStrncpy(topo, "/xdmf/vertex_displacement", sizeof(topo)));
+  if (step >= 0) PetscCall(PetscSNPrintf(xat, sizeof(xat), "/xdmf/steps/%06" PetscInt_FMT, step));
+  else PetscCall(PetscStrncpy(xat, "/xdmf", sizeof(xat)));
+  PetscCall(PetscSNPrintf(topo, sizeof(topo), "%s/vertex_displacement", xat));
   PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", topo, nv, 3, "Float", 8));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/blocks/displacement", at));
   PetscCall(BwXdmfField(fp, ref, "displacement", "Cell", path, nb, nd, "Float", 8));
@@ -277,6 +430,8 @@ static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, c
       PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 3", geom->poly_offsets[ni]));
       PetscCall(BwXdmfItem(fp, "        ", ref, "/interfaces/vertices", dims, "Float", 8));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
+      PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interface_displacement", xat));
+      PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", path, geom->poly_offsets[ni], 3, "Float", 8));
       PetscCall(BwXdmfField(fp, ref, "area", "Cell", "/interfaces/area", ni, 1, "Float", 8));
     } else {
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"%" PetscInt_FMT "\">\n", ni));
@@ -291,7 +446,7 @@ static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, c
     PetscCall(BwXdmfField(fp, ref, "resultant", "Cell", path, ni, nd, "Float", 8));
     PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interfaces/relative_displacement", at));
     PetscCall(BwXdmfField(fp, ref, "relative_displacement", "Cell", path, ni, nd, "Float", 8));
-    if (m_state > 0) {
+    if (d == 2 && m_state > 0) {
       /* the mode of each portion: m components per interface */
       PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interfaces/state", at));
       PetscCall(BwXdmfField(fp, ref, "state", "Cell", path, ni, m_state, "Char", 1));
@@ -301,22 +456,56 @@ static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, c
     PetscCall(BwXdmfField(fp, ref, "blocks", "Cell", "/interfaces/blocks", ni, 2, "Int", 8));
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    </Grid>\n"));
   }
+
+  if (pg->nportions > 0) {
+    const PetscInt np = pg->nportions;
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Grid Name=\"portions\" GridType=\"Uniform\">\n"));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Mixed\" NumberOfElements=\"%" PetscInt_FMT "\">\n", np));
+    PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, pg->ntopology));
+    PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/portion_topology", dims, "Int", 8));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n"));
+    PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 3", pg->npoints));
+    PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/portion_points", dims, "Float", 8));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
+    PetscCall(PetscSNPrintf(path, sizeof(path), "%s/portion_displacement", xat));
+    PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", path, pg->npoints, 3, "Float", 8));
+    if (pg->stresses) {
+      PetscCall(PetscSNPrintf(path, sizeof(path), "%s/portions/stress", at));
+      PetscCall(BwXdmfField(fp, ref, "stress", "Cell", path, np, 3, "Float", 8));
+    }
+    if (m_state > 0) {
+      PetscCall(PetscSNPrintf(path, sizeof(path), "%s/portions/state", at));
+      PetscCall(BwXdmfField(fp, ref, "state", "Cell", path, np, 1, "Char", 1));
+      /* the plastic jump is the final state's only (no step has it) */
+      if (step < 0) PetscCall(BwXdmfField(fp, ref, "plastic_jump", "Cell", "/portions/plastic_jump", np, 3, "Float", 8));
+    }
+    PetscCall(BwXdmfField(fp, ref, "area", "Cell", "/portions/area", np, 1, "Float", 8));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    </Grid>\n"));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom, PetscInt nsteps, const PetscInt steps[], PetscInt m_state, PetscBool stresses)
+PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom, const BwPortions *portions, PetscInt nsteps, const PetscInt steps[], PetscInt m_state, PetscBool stresses)
 {
-  const char *slash = strrchr(h5file, '/');
-  char        ref[3 * PETSC_MAX_PATH_LEN];
-  FILE       *fp;
+  const char       *slash = strrchr(h5file, '/');
+  char              ref[3 * PETSC_MAX_PATH_LEN];
+  FILE             *fp;
+  BwXdmfPortionGrid pg = {0, 0, 0, stresses};
 
   PetscFunctionBeginUser;
-  (void)stresses;
+  if (portions && geom->ninterfaces > 0) {
+    BwXdmfLayouts L;
+    PetscCall(BwXdmfLayoutsCreate(geom, portions, &L));
+    for (PetscInt k = 0; k < geom->ninterfaces; k++) pg.nportions += BwPortionsCount(portions, k);
+    pg.npoints   = L.points[geom->ninterfaces];
+    pg.ntopology = L.topology[geom->ninterfaces];
+    PetscCall(BwXdmfLayoutsDestroy(&L));
+  }
   PetscCall(BwXmlEscape(slash ? slash + 1 : h5file, ref, sizeof(ref)));
   PetscCall(PetscFOpen(PETSC_COMM_SELF, xdmffile, "w", &fp));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<?xml version=\"1.0\" ?>\n<!-- blockwall %s: blocks and interfaces of the HDF5 file named below, which must stay beside this file -->\n", BW_VERSION));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<Xdmf Version=\"3.0\">\n  <Domain>\n"));
-  if (!nsteps) PetscCall(BwXdmfGrids(fp, ref, geom, "", -1, m_state));
+  if (!nsteps) PetscCall(BwXdmfGrids(fp, ref, geom, &pg, "", -1, m_state));
   else {
     /* a temporal collection over the written steps (time = step number,
      * which grows where the load factor may not): ParaView plays it */
@@ -326,7 +515,7 @@ PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometr
       PetscCall(PetscSNPrintf(at, sizeof(at), "/steps/%06" PetscInt_FMT, steps[s]));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  <Grid Name=\"step %06" PetscInt_FMT "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", steps[s]));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Time Value=\"%" PetscInt_FMT "\"/>\n", steps[s]));
-      PetscCall(BwXdmfGrids(fp, ref, geom, at, steps[s], m_state));
+      PetscCall(BwXdmfGrids(fp, ref, geom, &pg, at, steps[s], m_state));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  </Grid>\n"));
     }
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  </Grid>\n"));

@@ -17,33 +17,58 @@
  * In 3D the blocks are Polyhedron cells (their faces), /xdmf/vertex_displacement
  * is u + w x (x - c), the interfaces are the polygons /interfaces/vertices
  * with /xdmf/interface_topology their Mixed list, and there are no
- * /xdmf/interface_points. */
+ * /xdmf/interface_points; instead
+ *   /xdmf/interface_displacement (W, 3)  at each row of /interfaces/vertices,
+ *                                        the mean of its two blocks' u + w x (x - c)
+ * and, where /portions datasets are written (output.stresses, a pushover),
+ * a third grid "portions" (one polygon per portion, its cell fields
+ * /portions/stress, state, plastic_jump, area):
+ *   /xdmf/portion_points       float64 (Q, 3)  every portion's polygon, interface
+ *                                              after interface, portions in their order
+ *   /xdmf/portion_topology     int64           their Mixed list
+ *   /xdmf/portion_displacement float64 (Q, 3)  the mean of the two blocks' motions
+ * A pushover's steps have their own /xdmf/steps/NNNNNN/vertex_displacement,
+ * interface_displacement and portion_displacement. */
 #pragma once
 #include <stdint.h>
 #include "geometry/geometry.h"
+#include "system/mixed.h"
 
 /* The /xdmf datasets as this rank writes them: the replicated ones whole,
- * the vertex displacement for the vertices of the blocks it owns. */
+ * the point displacements (and portion polygons) of the blocks and
+ * interfaces it owns, rows ascending. */
 typedef struct {
   PetscInt   ntopology;
   int64_t   *topology;
   PetscReal *interface_points;   /* 2D: 4 per interface */
   PetscInt   ninterface_topology;
   int64_t   *interface_topology; /* 2D: 2 per interface; 3D: the Mixed list of the interface polygons */
-  PetscInt   nvertex_rows;       /* vertices of the owned blocks, ascending */
+  PetscInt   nvertex_rows;       /* vertices of the owned blocks */
   PetscInt  *vertex_rows;
   PetscReal *vertex_displacement; /* 3 per row */
+  PetscInt   ninterface_rows;    /* 3D: vertices of the owned interfaces' polygons */
+  PetscInt  *interface_rows;
+  PetscReal *interface_displacement; /* 3 per row */
+  PetscInt   nportion_points, nportion_topology; /* 3D portions: the datasets' global lengths */
+  PetscInt   nportion_rows;      /* points of the owned interfaces' portions */
+  PetscInt  *portion_rows;
+  PetscReal *portion_points, *portion_displacement; /* 3 per row */
+  PetscInt   nportion_topology_rows;
+  PetscInt  *portion_topology_rows;
+  int64_t   *portion_topology;
 } BwXdmfData;
 
-/* own[] (ascending) are the blocks this rank owns, displacement[] their
- * u1, u2, w about the centroid. */
-PetscErrorCode BwXdmfDataCreate(BwGeometry geom, PetscInt nown, const PetscInt own[], const PetscReal displacement[], BwXdmfData *x);
+/* From the owned blocks' displacements and (3D) the owned interfaces'
+ * block pairs (res->pair); portions: the portions grid's data too (3D). */
+PetscErrorCode BwXdmfDataCreate(BwGeometry geom, const BwMixedOwnership *own, const BwResults *res, PetscBool portions, BwXdmfData *x);
 PetscErrorCode BwXdmfDataDestroy(BwXdmfData *x);
 /* The XDMF path of a result file: its extension replaced by .xdmf. */
 PetscErrorCode BwXdmfPath(const char h5file[], char xdmffile[], size_t len);
 /* Writes xdmffile describing h5file (only its basename is referenced);
  * serial, called by one rank once the HDF5 file is complete. With nsteps
  * > 0, a temporal collection over the steps written (/steps/NNNNNN, their
- * vertex displacement in /xdmf/steps/NNNNNN); m_state > 0: the portions'
- * state (/interfaces/state, m per interface) is a field. */
-PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom, PetscInt nsteps, const PetscInt steps[], PetscInt m_state, PetscBool stresses);
+ * point displacements in /xdmf/steps/NNNNNN). portions (3D, NULL: none):
+ * the portions grid, with their stresses if `stresses`. m_state > 0: a
+ * pushover's portion states are fields (2D: /interfaces/state, m per
+ * interface; 3D: /portions/state, and the final /portions/plastic_jump). */
+PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom, const BwPortions *portions, PetscInt nsteps, const PetscInt steps[], PetscInt m_state, PetscBool stresses);
