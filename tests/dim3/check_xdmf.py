@@ -1,38 +1,169 @@
 """The XDMF of a 3D result, opened by ParaView itself (pvpython, data only:
 no rendering, so no display is needed), with every reader it has for XDMF
-3 (the one OpenDataFile picks, Xdmf3ReaderS, Xdmf3ReaderT):
+3 (the one OpenDataFile picks, Xdmf3ReaderS, Xdmf3ReaderT), against numpy
+computed from the HDF5 datasets, not from /xdmf:
 
   blocks      one VTK polyhedron (type 42) per block; ParaView's Cell Size
-              gives every block's volume as the HDF5 geometry says it
-              (polygon area x depth of the extruded blocks, shoelace in
-              numpy), 1e-12; the cell fields displacement, reaction, load
+              gives every block's volume, the convex hull of its vertices
+              (scipy), 1e-12; the cell fields displacement, reaction, load
               (6 components) equal to /blocks/*; the point field
               vertex_displacement equal to u + w x (x - c) at every vertex
               (numpy from /blocks/displacement), 1e-13 of the largest
-  interfaces  one quadrilateral per interface, Cell Size areas equal to
+  interfaces  one polygon per interface, Cell Size areas equal to
               /interfaces/area (1e-12), resultant and relative_displacement
-              (6 components) equal to /interfaces/*
+              (6 components) equal to /interfaces/*; the point field
+              vertex_displacement at every vertex of /interfaces/vertices
+              equal to the mean of the two blocks' u + w x (x - c), 1e-13
+  portions    one polygon per portion (P cells, /interfaces/portion_offsets
+              telling the interface of each): its Cell Size area equal to
+              /portions/area (1e-12) and per interface summing to
+              /interfaces/area (1e-12); every point on its interface's
+              plane and inside its polygon (1e-12 of the wall's size), the
+              polygon's centroid (shoelace in the interface's (t, b)) at
+              /portions/center (1e-12); stress equal to /portions/stress
+              and area to /portions/area (1e-15); vertex_displacement at
+              every point ParaView reads equal to the mean of the two
+              blocks' rigid motions there (1e-13 of the largest)
+              (measured: areas 6.7e-15, sums 5.8e-15, off the plane 4e-16,
+              outside 5.5e-15, centroids 6e-16, fields exact, point
+              displacements 3e-16; 420 portions of 3 to 6 vertices)
+
+The wall is tests/dim3/wall.yaml's, written as a geometry file rotated by
+40 degrees about (1, 2, 3) and moved: the grid of portions follows X3, so
+the interfaces' bounding-box cells cut them into triangles to hexagons,
+and interfaces of one shape share a layout whose polygon is another
+interface's (35 interfaces, 27 layouts). On several ranks the portions' points and Mixed list
+and the XDMF text are those of 1 rank, byte for byte. Without
+output.stresses (a linear run writes no /portions) the XDMF has the
+blocks and interfaces grids only and /xdmf no portion datasets. With
+joints of strength and no stresses (tension 2e4, cohesion 5e4, friction
+0.6: every mode occurs) the portions carry state and plastic_jump, and no
+stress field.
 
 A 3D pushover (check_xdmf.py pushover: the tilted wall of
 check_nonlinear3d.py, every 10th step written) is a temporal collection:
 with each reader the times are the written steps, and at every time the
-blocks' displacement and vertex_displacement and the interfaces'
-resultant are that step's /steps/NNNNNN datasets (1e-15, 1e-13).
+blocks' displacement and vertex_displacement, the interfaces' resultant
+and vertex_displacement and the portions' stress, state and
+vertex_displacement are that step's (/steps/NNNNNN datasets; 1e-15 for
+the fields, 1e-13 for the point displacements), and the portions' geometry
+passes the checks above (measured over 6 steps: fields exact, point
+displacements 3e-16, states 0, 2 and 3 seen).
 
 usage: check_xdmf.py [RANKS]            (outside: runs blockwall, then pvpython)
        check_xdmf.py pushover
        pvpython check_xdmf.py --inside REF.npz XDMF
        pvpython check_xdmf.py --inside-steps REF.npz XDMF
 """
-import json
 import os
 import subprocess
 import sys
 import tempfile
+import xml.etree.ElementTree as ET
 
 import numpy as np
 
-WALL3 = os.path.join(os.path.dirname(os.path.abspath(__file__)), "wall.yaml")
+HERE = os.path.dirname(os.path.abspath(__file__))
+WALL3 = os.path.join(HERE, "wall.yaml")
+
+
+PORTION_FIELDS = ("stress", "state", "plastic_jump")  # as /portions has them
+
+
+def rel(a, b):
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return float(np.max(np.abs(a - b)) / max(np.max(np.abs(b)), 1e-300))
+
+
+def mean_motion(q, c, pairs, k, x):
+    """The mean of the rigid motions u + w x (x - c) of interface k's two blocks at points x."""
+    i, j = pairs[k]
+    return 0.5 * (q[i, :3] + np.cross(q[i, 3:], x - c[i]) + q[j, :3] + np.cross(q[j, 3:], x - c[j]))
+
+
+def interface_motion(r, q):
+    """numpy: the mean motion at every row of /interfaces/vertices."""
+    w, off = r["interfaces/vertices"], r["interfaces/offsets"]
+    out = np.zeros_like(w)
+    for k in range(len(off) - 1):
+        out[off[k]:off[k + 1]] = mean_motion(q, r["blocks/centroid"], r["interfaces/blocks"], k, w[off[k]:off[k + 1]])
+    return out
+
+
+def leaves(data):
+    out, it = [], data.NewIterator()
+    it.InitTraversal()
+    while not it.IsDoneWithTraversal():
+        out.append(it.GetCurrentDataObject())
+        it.GoToNextItem()
+    return out
+
+
+def cell_points(grid):
+    """The points of every cell of a VTK grid, as a list of (n, 3) arrays."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    pts = vtk_to_numpy(grid.GetPoints().GetData())
+    out = []
+    for c in range(grid.GetNumberOfCells()):
+        ids = grid.GetCell(c).GetPointIds()
+        out.append(pts[[ids.GetId(a) for a in range(ids.GetNumberOfIds())]])
+    return out
+
+
+def portion_geometry(ref, grid, areas):
+    """(what, error, tolerance) of the portions grid's geometry against the HDF5 file's."""
+    off, G, Q, W, woff = ref["portion_offsets"], ref["center"], ref["frame"], ref["iverts"], ref["ioffsets"]
+    k_of = np.repeat(np.arange(len(off) - 1), np.diff(off))
+    L = np.max(np.ptp(ref["vertices"], axis=0))
+    plane = inside = centre = 0.0
+    for p, x in enumerate(cell_points(grid)):
+        k = k_of[p]
+        t, n, b = Q[k]
+        plane = max(plane, float(np.max(np.abs((x - G[k]) @ n))))
+        poly = W[woff[k]:woff[k + 1]]
+        edges = np.roll(poly, -1, axis=0) - poly  # counter-clockwise about n: x is inside where every edge turns left
+        for a, e in zip(poly, edges):
+            inside = max(inside, float(np.max(-np.cross(e, x - a) @ n / np.linalg.norm(e))))
+        xi, eta = (x - G[k]) @ t, (x - G[k]) @ b
+        cr = xi * np.roll(eta, -1) - np.roll(xi, -1) * eta
+        cen = np.array([np.sum((xi + np.roll(xi, -1)) * cr), np.sum((eta + np.roll(eta, -1)) * cr)]) / (3 * np.sum(cr))
+        centre = max(centre, float(np.max(np.abs(cen - ref["portion_center"][p]))))
+    per_interface = np.add.reduceat(areas, off[:-1])
+    return [("portion areas (Cell Size)", rel(areas, ref["portion_area"]), 1e-12),
+            ("portion areas summed per interface", rel(per_interface, ref["area"]), 1e-12),
+            ("portion points off their interface's plane", plane / L, 1e-12),
+            ("portion points outside their interface", max(inside, 0.0) / L, 1e-12),
+            ("portion centroids against /portions/center", centre / L, 1e-12)]
+
+
+def portion_motion(ref, grid, q):
+    """(what, error, tolerance) of the portions' vertex_displacement at the points ParaView reads."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    off = ref["portion_offsets"]
+    k_of = np.repeat(np.arange(len(off) - 1), np.diff(off))
+    got, pts = array(grid, "point", "vertex_displacement"), vtk_to_numpy(grid.GetPoints().GetData())
+    want = np.full_like(got, np.nan)  # a point of no cell stays NaN and fails
+    for p in range(grid.GetNumberOfCells()):
+        ids = grid.GetCell(p).GetPointIds()
+        ids = [ids.GetId(a) for a in range(ids.GetNumberOfIds())]
+        want[ids] = mean_motion(q, ref["centroid"], ref["pairs"], k_of[p], pts[ids])
+    return [("portion vertex_displacement", rel(got, want), 1e-13)]
+
+
+def judge(name, checks, failures, quiet=False):
+    for what, e, tol in checks:
+        if not quiet:
+            print(f"{name}: {what} {e:.1e}")
+        if not e <= tol:
+            failures.append(f"{name}: {what} differ by {e:.2e} (> {tol})")
+
+
+def array(grid, where, name):
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    a = (grid.GetCellData() if where == "cell" else grid.GetPointData()).GetArray(name)
+    if a is None:
+        raise KeyError(f"no {where} field {name}")
+    return vtk_to_numpy(a)
 
 
 def inside(ref_path, xdmf):
@@ -42,18 +173,6 @@ def inside(ref_path, xdmf):
 
     ref = np.load(ref_path)
     failures = []
-
-    def leaves(data):
-        out, it = [], data.NewIterator()
-        it.InitTraversal()
-        while not it.IsDoneWithTraversal():
-            out.append(it.GetCurrentDataObject())
-            it.GoToNextItem()
-        return out
-
-    def rel(a, b):
-        return float(np.max(np.abs(np.asarray(a, float) - np.asarray(b, float))) / max(np.max(np.abs(b)), 1e-300))
-
     readers = {"OpenDataFile": lambda: simple.OpenDataFile(xdmf),
                "Xdmf3ReaderS": lambda: simple.Xdmf3ReaderS(FileName=[xdmf]),
                "Xdmf3ReaderT": lambda: simple.Xdmf3ReaderT(FileName=[xdmf])}
@@ -64,30 +183,36 @@ def inside(ref_path, xdmf):
         size = simple.CellSize(Input=r)
         size.UpdatePipeline()
         sizes = leaves(sm.Fetch(size))
-        if len(grids) != 2:
-            failures.append(f"{name}: {len(grids)} grids, not 2 (blocks, interfaces)")
+        if len(grids) != 3:
+            failures.append(f"{name}: {len(grids)} grids, not 3 (blocks, interfaces, portions)")
             continue
-        b, i = grids
-        nb, ni = len(ref["volume"]), len(ref["area"])
+        b, i, p = grids
+        nb, ni, npor = len(ref["volume"]), len(ref["area"]), len(ref["portion_area"])
         if b.GetNumberOfCells() != nb or {b.GetCellType(c) for c in range(nb)} != {42}:
             failures.append(f"{name}: blocks grid has {b.GetNumberOfCells()} cells of types {sorted({b.GetCellType(c) for c in range(b.GetNumberOfCells())})}, not {nb} polyhedra (42)")
             continue
-        if i.GetNumberOfCells() != ni:
-            failures.append(f"{name}: interfaces grid has {i.GetNumberOfCells()} cells, not {ni}")
+        if i.GetNumberOfCells() != ni or p.GetNumberOfCells() != npor:
+            failures.append(f"{name}: {i.GetNumberOfCells()} interface and {p.GetNumberOfCells()} portion cells, not {ni} and {npor}")
             continue
+        sides = sorted({p.GetCell(c).GetNumberOfPoints() for c in range(npor)})
+        print(f"{name}: {npor} portions of {sides} vertices")
         checks = [("block volumes (Cell Size)", vtk_to_numpy(sizes[0].GetCellData().GetArray("Volume")), ref["volume"], 1e-12),
                   ("interface areas (Cell Size)", vtk_to_numpy(sizes[1].GetCellData().GetArray("Area")), ref["area"], 1e-12),
-                  ("vertex_displacement", vtk_to_numpy(b.GetPointData().GetArray("vertex_displacement")), ref["vertex_displacement"], 1e-13)]
+                  ("vertex_displacement", array(b, "point", "vertex_displacement"), ref["vertex_displacement"], 1e-13),
+                  ("interface vertex_displacement", array(i, "point", "vertex_displacement"), ref["interface_motion"], 1e-13),
+                  ("portion area field", array(p, "cell", "area"), ref["portion_area"], 1e-15)]
+        for field in PORTION_FIELDS:
+            if "portion_" + field in ref:
+                checks.append((f"portion {field}", array(p, "cell", field), ref["portion_" + field], 1e-15))
+            elif p.GetCellData().GetArray(field) is not None:
+                failures.append(f"{name}: the portions have a field {field} the HDF5 file has not")
         for field in ("displacement", "reaction", "load"):
-            checks.append((field, vtk_to_numpy(b.GetCellData().GetArray(field)), ref[field], 1e-15))
+            checks.append((field, array(b, "cell", field), ref[field], 1e-15))
         for field in ("resultant", "relative_displacement"):
-            checks.append((field, vtk_to_numpy(i.GetCellData().GetArray(field)), ref[field], 1e-15))
-        for what, got, want, tol in checks:
-            got = np.asarray(got).reshape(np.shape(want))
-            e = rel(got, want)
-            print(f"{name}: {what} {e:.1e}")
-            if not e <= tol:
-                failures.append(f"{name}: {what} differ by {e:.2e} (> {tol})")
+            checks.append((field, array(i, "cell", field), ref[field], 1e-15))
+        judge(name, [(what, rel(np.asarray(got).reshape(np.shape(want)), want), tol) for what, got, want, tol in checks], failures)
+        judge(name, portion_geometry(ref, p, vtk_to_numpy(sizes[2].GetCellData().GetArray("Area"))), failures)
+        judge(name, portion_motion(ref, p, ref["displacement"]), failures)
         simple.Delete(size)
         simple.Delete(r)
     if failures:
@@ -98,7 +223,6 @@ def inside(ref_path, xdmf):
 def inside_steps(ref_path, xdmf):
     from paraview import servermanager as sm
     from paraview import simple
-    from vtkmodules.util.numpy_support import vtk_to_numpy
 
     ref = np.load(ref_path)
     steps, failures = [int(t) for t in ref["steps"]], []
@@ -111,28 +235,36 @@ def inside_steps(ref_path, xdmf):
         if times != steps:
             failures.append(f"{name}: times {times}, written steps {steps}")
             continue
-        worst = 0.0
+        size = simple.CellSize(Input=r)
+        worst, states = {}, set()
         for k, t in enumerate(steps):
             r.UpdatePipeline(float(t))
-            d = sm.Fetch(r)
-            it, grids = d.NewIterator(), []
-            it.InitTraversal()
-            while not it.IsDoneWithTraversal():
-                grids.append(it.GetCurrentDataObject())
-                it.GoToNextItem()
-            b, i = grids
-            for got, want, tol in ((b.GetCellData().GetArray("displacement"), ref["displacement"][k], 1e-15),
-                                   (b.GetPointData().GetArray("vertex_displacement"), ref["vertex_displacement"][k], 1e-13),
-                                   (i.GetCellData().GetArray("resultant"), ref["resultant"][k], 1e-15)):
-                got = np.asarray(vtk_to_numpy(got)).reshape(np.shape(want))
-                e = float(np.max(np.abs(got - want)) / max(np.max(np.abs(want)), 1e-300))
-                worst = max(worst, e)
-                if not e <= tol:
-                    failures.append(f"{name}: step {t}: a field differs by {e:.2e}")
-        print(f"{name}: {len(steps)} timesteps, fields equal to {worst:.1e}")
+            size.UpdatePipeline(float(t))
+            grids = leaves(sm.Fetch(r))
+            if len(grids) != 3:
+                failures.append(f"{name}: step {t}: {len(grids)} grids, not 3")
+                break
+            b, i, p = grids
+            q = ref["displacement"][k]
+            state = array(p, "cell", "state")
+            states |= set(np.unique(state).tolist())
+            checks = [(what, rel(np.asarray(got).reshape(np.shape(want)), want), tol) for what, got, want, tol in (
+                ("displacement", array(b, "cell", "displacement"), q, 1e-15),
+                ("vertex_displacement", array(b, "point", "vertex_displacement"), ref["vertex_displacement"][k], 1e-13),
+                ("resultant", array(i, "cell", "resultant"), ref["resultant"][k], 1e-15),
+                ("interface vertex_displacement", array(i, "point", "vertex_displacement"), ref["interface_motion"][k], 1e-13),
+                ("portion stress", array(p, "cell", "stress"), ref["portion_stress"][k], 1e-15),
+                ("portion state", state, ref["portion_state"][k], 0.0))]
+            checks += portion_motion(ref, p, q)
+            checks += portion_geometry(ref, p, array(leaves(sm.Fetch(size))[2], "cell", "Area"))
+            for what, e, tol in checks:
+                worst[what] = max(worst.get(what, 0.0), e)
+            judge(f"{name}: step {t}", checks, failures, quiet=True)
+        print(f"{name}: {len(steps)} timesteps, portion states {sorted(states)}; worst over the steps: " + ", ".join(f"{w} {e:.1e}" for w, e in worst.items()))
+        simple.Delete(size)
         simple.Delete(r)
     if failures:
-        print("FAIL: " + "; ".join(failures))
+        print("FAIL: " + "; ".join(failures[:20]))
         sys.exit(1)
 
 
@@ -140,14 +272,27 @@ def pvpython(expect, mode, ref, xdmf):
     """This file's inside half under pvpython, without a display (data only)."""
     env = {k: val for k, val in os.environ.items() if k != "DISPLAY"}
     p = subprocess.run([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), mode, ref, xdmf],
-                       capture_output=True, text=True, env=env, timeout=300)
+                       capture_output=True, text=True, env=env, timeout=600)
     print(p.stdout)
     expect(p.returncode == 0, f"pvpython: exit {p.returncode}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
 
 
+def geometry_reference(r):
+    """What the inside half needs of the HDF5 file to check the portions grid."""
+    return dict(vertices=r["blocks/vertices"], centroid=r["blocks/centroid"], pairs=r["interfaces/blocks"],
+                center=r["interfaces/center"], frame=r["interfaces/frame"], area=r["interfaces/area"],
+                iverts=r["interfaces/vertices"], ioffsets=r["interfaces/offsets"],
+                portion_offsets=r["interfaces/portion_offsets"], portion_center=r["portions/center"],
+                portion_area=r["portions/area"])
+
+
+def grid_names(xdmf):
+    return [g.get("Name") for g in ET.parse(xdmf).getroot().iter("Grid") if g.get("GridType") == "Uniform"]
+
+
 def pushover():
-    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    sys.path.insert(0, os.path.join(HERE, "..", "common"))
+    sys.path.insert(0, HERE)
     from bwrun import Failure, expect, read, run  # noqa: E402
     import check_nonlinear3d as n3  # noqa: E402
     try:
@@ -161,45 +306,84 @@ def pushover():
             v, off, c = r["blocks/vertices"], r["blocks/offsets"], r["blocks/centroid"]
             steps = sorted({int(k.split("/")[1]) for k in r if k.startswith("steps/")})
             expect(len(steps) >= 3, f"written steps {steps}")
-            disp, vds, res = [], [], []
+            ref = {k: [] for k in ("displacement", "vertex_displacement", "resultant", "interface_motion", "portion_stress", "portion_state")}
             for t in steps:
-                q = r[f"steps/{t:06d}/blocks/displacement"]
+                s = f"steps/{t:06d}/"
+                q = r[s + "blocks/displacement"]
                 vd = np.zeros_like(v)
                 for blk in range(len(off) - 1):
                     p = v[off[blk]:off[blk + 1]]
                     vd[off[blk]:off[blk + 1]] = q[blk, :3] + np.cross(q[blk, 3:], p - c[blk])
-                disp.append(q), vds.append(vd), res.append(r[f"steps/{t:06d}/interfaces/resultant"])
-            ref = os.path.join(tmp, "ref.npz")
-            np.savez(ref, steps=np.array(steps), displacement=np.array(disp), vertex_displacement=np.array(vds), resultant=np.array(res))
-            pvpython(expect, "--inside-steps", ref, out[:-3] + ".xdmf")
+                for key, val in (("displacement", q), ("vertex_displacement", vd), ("resultant", r[s + "interfaces/resultant"]),
+                                 ("interface_motion", interface_motion(r, q)), ("portion_stress", r[s + "portions/stress"]),
+                                 ("portion_state", r[s + "portions/state"])):
+                    ref[key].append(val)
+            path = os.path.join(tmp, "ref.npz")
+            np.savez(path, steps=np.array(steps), **{k: np.array(val) for k, val in ref.items()}, **geometry_reference(r))
+            pvpython(expect, "--inside-steps", path, out[:-3] + ".xdmf")
     except Failure as e:
         print(f"FAIL: {e}")
         sys.exit(1)
 
 
 def outside(ranks):
-    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
-    from bwrun import Failure, expect, read, run  # noqa: E402
+    sys.path.insert(0, os.path.join(HERE, "..", "common"))
+    sys.path.insert(0, HERE)
+    from bwrun import Failure, expect, read, run, solve  # noqa: E402
+    import check_file as cf  # noqa: E402
+    from scipy.spatial import ConvexHull
+    load = np.array([3000, -1.0e4, 800, 20, -30, 40], float)
+    R = cf.rotation([1, 2, 3], 40.0)
+
+    def check(tmp, out, args):
+        """blockwall, then the inside half against numpy from the file; the file's datasets."""
+        run(scene, ["-output_file", out, "-output_xdmf", "true", "-gravity_density", 1800, *args], ranks)
+        r = read(out)
+        v, off, c, q = r["blocks/vertices"], r["blocks/offsets"], r["blocks/centroid"], r["blocks/displacement"]
+        vol, vd = [], np.zeros_like(v)
+        for blk in range(len(off) - 1):
+            p = v[off[blk]:off[blk + 1]]
+            vol.append(ConvexHull(p).volume)
+            vd[off[blk]:off[blk + 1]] = q[blk, :3] + np.cross(q[blk, 3:], p - c[blk])
+        ref = os.path.join(tmp, "ref.npz")
+        np.savez(ref, volume=np.array(vol), vertex_displacement=vd,
+                 displacement=q, reaction=r["blocks/reaction"], load=r["blocks/load"],
+                 resultant=r["interfaces/resultant"], relative_displacement=r["interfaces/relative_displacement"],
+                 interface_motion=interface_motion(r, q), **geometry_reference(r),
+                 **{"portion_" + f: r["portions/" + f] for f in PORTION_FIELDS if "portions/" + f in r})
+        pvpython(expect, "--inside", ref, out[:-3] + ".xdmf")
+        return r
+
     try:
         with tempfile.TemporaryDirectory() as tmp:
+            geometry = cf.write_file(tmp, "wall", solve(WALL3, [], 1), R, np.array([3.0, -1.0, 2.0]))
+            scene = cf.scene(tmp, "wall", geometry, 4, 3, "foundation", "top_beam", np.concatenate([R @ load[:3], R @ load[3:]]))
             out = os.path.join(tmp, "wall3.h5")
-            run(WALL3, ["-output_file", out, "-output_xdmf", "true", "-gravity_density", 1800,
-                        "-loads_top_beam", "3000,-1.0e4,800,20,-30,40"], ranks)
-            r = read(out)
-            v, off, c, q = r["blocks/vertices"], r["blocks/offsets"], r["blocks/centroid"], r["blocks/displacement"]
-            vol, vd = [], np.zeros_like(v)
-            for blk in range(len(off) - 1):
-                p = v[off[blk]:off[blk + 1]]
-                ring = p[: len(p) // 2]  # the extruded prism: bottom ring, then top ring
-                x, y = ring[:, 0], ring[:, 1]
-                area = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
-                vol.append(area * (p[len(p) // 2, 2] - p[0, 2]))
-                vd[off[blk]:off[blk + 1]] = q[blk, :3] + np.cross(q[blk, 3:], p - c[blk])
-            ref = os.path.join(tmp, "ref.npz")
-            np.savez(ref, volume=np.array(vol), area=r["interfaces/area"], vertex_displacement=vd,
-                     displacement=q, reaction=r["blocks/reaction"], load=r["blocks/load"],
-                     resultant=r["interfaces/resultant"], relative_displacement=r["interfaces/relative_displacement"])
-            pvpython(expect, "--inside", ref, out[:-3] + ".xdmf")
+            r = check(tmp, out, [])
+            if ranks > 1:
+                one = os.path.join(tmp, "one.h5")
+                run(scene, ["-output_file", one, "-output_xdmf", "true", "-gravity_density", 1800], 1)
+                r1 = read(one)
+                for key in ("xdmf/portion_points", "xdmf/portion_topology", "xdmf/interface_topology", "xdmf/topology"):
+                    expect(r1[key].dtype == r[key].dtype and np.array_equal(r1[key], r[key]), f"{key} differs between 1 and {ranks} ranks")
+                with open(out[:-3] + ".xdmf") as f, open(one[:-3] + ".xdmf") as g:
+                    expect(f.read().replace("wall3.h5", "one.h5") == g.read(), f"the XDMF text differs between 1 and {ranks} ranks")
+                print(f"{ranks} ranks: portion points, Mixed lists and XDMF text identical to 1 rank's")
+            # joints with strength, without stresses: /portions holds the
+            # states and plastic jumps, the portions grid those fields
+            r = check(tmp, os.path.join(tmp, "joints.h5"), ["-output_stresses", "false", "-joints_strength_tension", "2e4",
+                                                            "-joints_strength_cohesion", "5e4", "-joints_strength_friction", "0.6"])
+            states = np.bincount(r["portions/state"], minlength=4)
+            print(f"joints with strength: portions elastic, open, sliding, both {states.tolist()}")
+            expect(np.all(states > 0), f"the joints' states do not show every mode: {states}")
+            # a linear run without stresses writes no /portions: no portions grid
+            bare = os.path.join(tmp, "bare.h5")
+            run(scene, ["-output_file", bare, "-output_xdmf", "true", "-output_stresses", "false"], ranks)
+            names, keys = grid_names(bare[:-3] + ".xdmf"), sorted(k for k in read(bare) if k.startswith("xdmf/"))
+            print(f"without stresses: grids {names}, {keys}")
+            expect(names == ["blocks", "interfaces"], f"without stresses the grids are {names}")
+            expect(keys == ["xdmf/interface_displacement", "xdmf/interface_topology", "xdmf/topology", "xdmf/vertex_displacement"],
+                   f"without stresses /xdmf holds {keys}")
     except Failure as e:
         print(f"FAIL: {e}")
         sys.exit(1)
