@@ -101,6 +101,7 @@ module bw_joint_law_kernels
     ! sbar = fc, perfectly plastic).
     logical :: cap = .false., soft = .false.
     real(c_double) :: css = ZERO, sp = ZERO, si = ZERO, sm = ZERO, sr = ZERO, kp = ZERO, km = ZERO, mm = ZERO
+    real(c_double) :: smin = ZERO ! the least sbar: sr with Gfc (below si = fc/3), else sp
   end type law_t
 
   type :: candidate_t
@@ -188,7 +189,9 @@ contains
     law%sm = par(IFC) / 2
     law%sr = par(IFC) / 10
     law%soft = par(IGFC) > 0
+    law%smin = law%sp
     if (.not. law%soft) return
+    law%smin = min(law%si, law%sr)
     if (.not. (par(IKP) > 0)) then
       status = BW_LAW_BAD_STRENGTH
       return
@@ -236,11 +239,18 @@ contains
     f = sqrt(r(2)**2 + law%css * r(1)**2) - s
   end function cap_surface
 
+  ! Without softening or before any (rate k = 0) the strength is s0 itself, which the
+  ! exponential would return too: skipping it is the same number, and most portions of
+  ! a wall are there at every evaluation.
   pure function strength(law, k) result(s)
     type(law_t), intent(in) :: law
     real(c_double), intent(in) :: k(2)
     real(c_double) :: s(2)
-    s = law%s0 * exp(min(-law%rate * k, MAXEXP))
+    integer :: i
+    do i = 1, 2
+      s(i) = law%s0(i)
+      if (law%rate(i) * k(i) /= ZERO) s(i) = law%s0(i) * exp(min(-law%rate(i) * k(i), MAXEXP))
+    end do
   end function strength
 
   pure function dstrength(law, k) result(ds)
@@ -570,7 +580,8 @@ contains
     status = BW_LAW_OK
     if (all(ftr <= RTOL * sig)) then
       r = rtr
-      t = reshape([law%kt, ZERO, ZERO, law%kn], [2, 2])
+      t(:, 1) = [law%kt, ZERO]
+      t(:, 2) = [ZERO, law%kn]
       state_new = state
       mode = 0_c_signed_char
       return
@@ -891,6 +902,12 @@ contains
     state_new(IK3) = state(IK3)
     if (.not. law%cap .or. status /= BW_LAW_OK) return
     rtr = [law%kt * (jump(1) - state(1)), law%kn * (jump(2) - state(2))]
+    ! Well inside the cap (most portions, most of the time): Q below sbar's least value
+    ! by more than the tolerance of the tests below at a bound of their scale sig (the
+    ! strengths only soften, sbar <= sp), so f3 < -ATOL sig and nothing below would
+    ! change r, t or the mode; sbar itself is not needed.
+    if (sqrt(r(2)**2 + law%css * r(1)**2) - law%smin < -ATOL * max(abs(rtr(1)) * max(ONE, sqrt(law%css)), &
+         abs(rtr(2)) * max(ONE, law%tphi), law%s0(1), law%s0(2), law%sp)) return
     s = strength(law, state(3:4))
     call cap_strength(law, state(IK3), sbar, dsbar)
     sig = max(abs(rtr(1)) * max(ONE, sqrt(law%css)), abs(rtr(2)) * max(ONE, law%tphi), s(1), s(2), sbar)
