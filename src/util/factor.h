@@ -3,7 +3,7 @@
  * complement S^, the whole saddle matrix, the mechanism check). Decided
  * from petscconf.h, so a PETSc without MUMPS (a cluster's own build) still
  * runs, on the paths it can take.
- *   Cholesky, one rank:        MUMPS, else CHOLMOD (SuiteSparse), else PETSc's own
+ *   Cholesky, one rank:        CHOLMOD (SuiteSparse), else MUMPS, else PETSc's own
  *   LU of S^, one rank:        MUMPS, else SuperLU, else UMFPACK, else PETSc's own
  *   LU of a saddle, one rank:  MUMPS, else SuperLU, else UMFPACK, else none
  *   more ranks:                MUMPS, else SuperLU_DIST for LU, else none
