@@ -41,6 +41,12 @@ PetscErrorCode BwPartitionBlocks(BwModel model, PetscMPIInt **owner);
 /* The operators K (shell, or AIJ with storage aij) and S^ with the elastic
  * tangents. */
 PetscErrorCode BwMixedSetUp(BwMixed mixed, BwStorage storage);
+/* Before BwMixedSetUp: the operators' values will never change (a linear
+ * analysis of elastic joints: no tangents, no spring), so S^ may leave out
+ * its entries that are round-off of zero (stiffness.c): an assembly
+ * symmetric about a plane normal to X3 then factors as two independent
+ * problems. BwMixedSetTangents and BwMixedSetSpring are errors after it. */
+PetscErrorCode BwMixedSetValuesFixed(BwMixed mixed, PetscBool fixed);
 PetscErrorCode BwMixedDestroy(BwMixed *mixed);
 
 /* New tangents: 4 per portion of every owned interface, the joint laws'

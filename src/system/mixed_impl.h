@@ -43,6 +43,9 @@ struct _n_BwMixed {
   BwStorage storage;
   Mat       K, D, S;
   BwCSRValues svals; /* S^'s values as PETSc holds them, for the refill */
+  PetscBool  values_fixed; /* BwMixedSetValuesFixed: no refill; S^ without its round-off entries */
+  PetscInt   s_groups;     /* the groups of dof kinds that never couple (1: none split) */
+  PetscInt   s_dropped;    /* the entries of the local rows left out between them */
   PetscInt   maxdeg; /* most interfaces of an owned block */
   PetscInt   values_state; /* bumped when BwMixedSetTangents changes the operators' values */
   /* a spring on one dof in the operators (BwMixedSetSpring), -1: none */
@@ -93,5 +96,9 @@ PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscBool tangent, Mat *D);
 /* S^ (stiffness.c): pattern and values, and the refill. */
 PetscErrorCode BwMixedAssembleS(BwMixed mx);
 PetscErrorCode BwMixedRefillS(BwMixed mx);
+/* BwMixedCheck's local sums of b - K x (operator.c): the stress rows'
+ * |b_r - (K x)_r|^2, |T D^ q~ - b_r|^2, then the q rows' |b_q - (K x)_q|^2,
+ * |b_q|^2, then |b_r|^2, |r~|^2. */
+PetscErrorCode BwMixedResidualSums(BwMixed mx, Vec x, Vec b, PetscReal loc[6]);
 /* The matrix from local CSR rows (global columns, sorted), used in place. */
 PetscErrorCode BwMatFromCSR(BwMixed mx, PetscInt m, PetscInt n, PetscInt M, PetscInt N, const char prefix[], PetscInt *ia, PetscInt *ja, PetscReal *va, Mat *A, BwCSRValues *vals);

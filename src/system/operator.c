@@ -52,35 +52,37 @@ static PetscErrorCode BwDShellDestroy(Mat A)
 
 /* The products' loops, written once for nd dofs and ns stresses and
  * inlined with the dimension's constants, so that 2D keeps its unrolled
- * loops. */
+ * loops. y_e = D^_e q for owned interface e: its ns np rows. */
+static inline void BwDShellMultOne(BwDShell *ctx, PetscInt e, const PetscScalar *ql, const PetscScalar *qg, PetscScalar *ye, const int dim, const PetscInt nd, const PetscInt ns)
+{
+  const PetscReal *w = ctx->w + 2 * nd * nd * e, *sqa = ctx->portions->sqrt_area + ctx->first[e];
+  const PetscReal *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
+  PetscReal        dg[BW_MAX_ND] = {0}, sk[BW_MAX_NS];
+  int              status;
+  for (PetscInt s = 0; s < 2; s++) {
+    PetscInt           c = ctx->col[2 * e + s];
+    const PetscScalar *x;
+    if (c < 0) continue;
+    x = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
+    for (PetscInt f = 0; f < nd; f++) {
+      PetscReal v = PetscRealPart(x[f]);
+      for (PetscInt r = 0; r < nd; r++) dg[r] += w[2 * nd * r + nd * s + f] * v;
+    }
+  }
+  bw_kernel_jumps(dim, (int)ctx->np[e], xi, eta, dg, ye, &status);
+  for (PetscInt a = 0; a < ns; a++) sk[a] = a == 1 ? ctx->skn[e] : ctx->skt[e];
+  if (ctx->uniform[e]) { /* equal portions (every 2D joint): one factor per component */
+    for (PetscInt a = 0; a < ns; a++) sk[a] *= sqa[0];
+    for (PetscInt p = 0; p < ctx->np[e]; p++)
+      for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sk[a];
+  } else
+    for (PetscInt p = 0; p < ctx->np[e]; p++)
+      for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sqa[p] * sk[a];
+}
+
 static inline void BwDShellMultLoop(BwDShell *ctx, const PetscScalar *ql, const PetscScalar *qg, PetscScalar *yy, const int dim, const PetscInt nd, const PetscInt ns)
 {
-  for (PetscInt e = 0; e < ctx->n; e++) {
-    const PetscReal *w = ctx->w + 2 * nd * nd * e, *sqa = ctx->portions->sqrt_area + ctx->first[e];
-    const PetscReal *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
-    PetscReal        dg[BW_MAX_ND] = {0}, sk[BW_MAX_NS];
-    PetscScalar     *ye = yy + ctx->row[e];
-    int              status;
-    for (PetscInt s = 0; s < 2; s++) {
-      PetscInt           c = ctx->col[2 * e + s];
-      const PetscScalar *x;
-      if (c < 0) continue;
-      x = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
-      for (PetscInt f = 0; f < nd; f++) {
-        PetscReal v = PetscRealPart(x[f]);
-        for (PetscInt r = 0; r < nd; r++) dg[r] += w[2 * nd * r + nd * s + f] * v;
-      }
-    }
-    bw_kernel_jumps(dim, (int)ctx->np[e], xi, eta, dg, ye, &status);
-    for (PetscInt a = 0; a < ns; a++) sk[a] = a == 1 ? ctx->skn[e] : ctx->skt[e];
-    if (ctx->uniform[e]) { /* equal portions (every 2D joint): one factor per component */
-      for (PetscInt a = 0; a < ns; a++) sk[a] *= sqa[0];
-      for (PetscInt p = 0; p < ctx->np[e]; p++)
-        for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sk[a];
-    } else
-      for (PetscInt p = 0; p < ctx->np[e]; p++)
-        for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sqa[p] * sk[a];
-  }
+  for (PetscInt e = 0; e < ctx->n; e++) BwDShellMultOne(ctx, e, ql, qg, yy + ctx->row[e], dim, nd, ns);
 }
 
 static inline void BwDShellMultTransposeLoop(BwDShell *ctx, const PetscScalar *yy, PetscScalar *ql, PetscScalar *qg, const int dim, const PetscInt nd, const PetscInt ns)
@@ -498,6 +500,103 @@ static PetscErrorCode BwKShellMult(Mat K, Vec x, Vec y)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The sums BwMixedCheck needs of b - K x, by block row (see mixed.h),
+ * without a vector of K's size where D^ is a shell: the q rows through one
+ * q-sized vector, the stress rows interface by interface (D^_e q~ into a
+ * buffer of one interface's rows), so that the check of a 3D wall costs no
+ * copy of its stresses (2.3 KB per block at m = 8, m_b = 4). */
+PetscErrorCode BwMixedResidualSums(BwMixed mx, Vec x, Vec b, PetscReal loc[6])
+{
+  const PetscInt     ns = mx->ns;
+  Vec                xr, xq, br, bq, kq;
+  const PetscScalar *xx, *bb, *kk, *ql, *qg = NULL;
+  BwDShell          *ctx;
+  PetscScalar       *ye;
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < 6; c++) loc[c] = 0;
+  if (mx->storage != BW_STORAGE_SHELL) {
+    Vec Kx;
+    PetscCall(VecDuplicate(x, &Kx));
+    PetscCall(MatMult(mx->K, x, Kx));
+    PetscCall(VecGetArrayRead(Kx, &kk));
+    PetscCall(VecGetArrayRead(b, &bb));
+    PetscCall(VecGetArrayRead(x, &xx));
+    for (PetscInt e = 0; e < mx->nr_local; e++) {
+      PetscReal res_r = PetscRealPart(bb[e] - kk[e]), dq = PetscRealPart(kk[e] + xx[e] - bb[e]); /* T D^ q~ including prescribed dofs */
+      loc[0] += res_r * res_r;
+      loc[1] += dq * dq;
+      loc[4] += PetscRealPart(bb[e] * bb[e]);
+      loc[5] += PetscRealPart(xx[e] * xx[e]);
+    }
+    for (PetscInt e = mx->nr_local; e < mx->nlocal; e++) {
+      PetscReal res_q = PetscRealPart(bb[e] - kk[e]);
+      loc[2] += res_q * res_q;
+      loc[3] += PetscRealPart(bb[e] * bb[e]);
+    }
+    PetscCall(VecRestoreArrayRead(Kx, &kk));
+    PetscCall(VecRestoreArrayRead(b, &bb));
+    PetscCall(VecRestoreArrayRead(x, &xx));
+    PetscCall(VecDestroy(&Kx));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(VecGetSubVector(x, mx->isr, &xr));
+  PetscCall(VecGetSubVector(x, mx->isq, &xq));
+  PetscCall(VecGetSubVector(b, mx->isr, &br));
+  PetscCall(VecGetSubVector(b, mx->isq, &bq));
+  /* q rows: P q~ (+ the spring) + D^T r~ */
+  PetscCall(VecDuplicate(xq, &kq));
+  PetscCall(VecPointwiseMult(kq, mx->pmask, xq));
+  if (mx->spring_block >= 0) PetscCall(BwMixedAddSpring(mx, xq, kq));
+  PetscCall(MatMultTransposeAdd(mx->D, xr, kq, kq));
+  PetscCall(VecGetArrayRead(kq, &kk));
+  PetscCall(VecGetArrayRead(bq, &bb));
+  for (PetscInt e = 0; e < mx->nq_local; e++) {
+    PetscReal res_q = PetscRealPart(bb[e] - kk[e]);
+    loc[2] += res_q * res_q;
+    loc[3] += PetscRealPart(bb[e] * bb[e]);
+  }
+  PetscCall(VecRestoreArrayRead(bq, &bb));
+  PetscCall(VecRestoreArrayRead(kq, &kk));
+  PetscCall(VecDestroy(&kq));
+  /* stress rows: -r~ + T D^ q~, an interface at a time */
+  PetscCall(MatShellGetContext(mx->D, &ctx));
+  if (ctx->scatter) {
+    PetscCall(VecScatterBegin(ctx->scatter, xq, ctx->ghost, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(ctx->scatter, xq, ctx->ghost, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecGetArrayRead(ctx->ghost, &qg));
+  }
+  PetscCall(PetscMalloc1(ns * mx->portions.maxnp + 1, &ye));
+  PetscCall(VecGetArrayRead(xq, &ql));
+  PetscCall(VecGetArrayRead(xr, &xx));
+  PetscCall(VecGetArrayRead(br, &bb));
+  for (PetscInt e = 0; e < ctx->n; e++) {
+    PetscInt           k = mx->own_interfaces[e], lp = BwLocalPortion(mx, k), np = ctx->np[e];
+    const PetscScalar *xe = xx + ctx->row[e], *be = bb + ctx->row[e];
+    if (mx->dim == 2) BwDShellMultOne(ctx, e, ql, qg, ye, 2, 3, 2);
+    else BwDShellMultOne(ctx, e, ql, qg, ye, 3, 6, 3);
+    if (mx->tangent)
+      for (PetscInt p = 0; p < np; p++) BwApplyScaledTangent(ns, mx->scaled_tangent + ns * ns * (lp + p), ye + ns * p);
+    for (PetscInt i = 0; i < ns * np; i++) {
+      PetscReal dq = PetscRealPart(ye[i] - be[i]), res_r = PetscRealPart(be[i] + xe[i] - ye[i]);
+      loc[0] += res_r * res_r;
+      loc[1] += dq * dq;
+      loc[4] += PetscRealPart(be[i] * be[i]);
+      loc[5] += PetscRealPart(xe[i] * xe[i]);
+    }
+  }
+  PetscCall(VecRestoreArrayRead(br, &bb));
+  PetscCall(VecRestoreArrayRead(xr, &xx));
+  PetscCall(VecRestoreArrayRead(xq, &ql));
+  PetscCall(PetscFree(ye));
+  if (ctx->scatter) PetscCall(VecRestoreArrayRead(ctx->ghost, &qg));
+  PetscCall(VecRestoreSubVector(b, mx->isq, &bq));
+  PetscCall(VecRestoreSubVector(b, mx->isr, &br));
+  PetscCall(VecRestoreSubVector(x, mx->isq, &xq));
+  PetscCall(VecRestoreSubVector(x, mx->isr, &xr));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* K = [-I, T D^; D^T, P] as one AIJ matrix, from a nest of its blocks. */
 PetscErrorCode BwMixedCreateAIJ(BwMixed mx, Mat *aij)
 {
@@ -579,6 +678,14 @@ PetscErrorCode BwMixedSetUp(BwMixed mx, BwStorage storage)
     PetscCall(MatCreateShell(mx->comm, mx->nlocal, mx->nlocal, PETSC_DETERMINE, PETSC_DETERMINE, mx, &mx->K));
     PetscCall(MatShellSetOperation(mx->K, MATOP_MULT, (void (*)(void))BwKShellMult));
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedSetValuesFixed(BwMixed mx, PetscBool fixed)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(!mx->S, mx->comm, PETSC_ERR_ORDER, "BwMixedSetValuesFixed before BwMixedSetUp");
+  mx->values_fixed = fixed;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

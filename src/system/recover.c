@@ -249,34 +249,11 @@ PetscErrorCode BwResultsFree(BwResults *res)
  * moved by prescribed displacements only), the stresses. */
 PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, Vec b, const PetscReal load[], const BwResults *res, BwCheck *check)
 {
-  Vec                Kx;
-  const PetscScalar *kx, *bb, *xx;
-  PetscReal          loc[6] = {0, 0, 0, 0, 0, 0}, glob[6];
+  PetscReal loc[6], glob[6];
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_CHECK], 0, 0, 0, 0));
-  PetscCall(VecDuplicate(x, &Kx));
-  PetscCall(MatMult(mx->K, x, Kx));
-  PetscCall(VecGetArrayRead(Kx, &kx));
-  PetscCall(VecGetArrayRead(b, &bb));
-  PetscCall(VecGetArrayRead(x, &xx));
-  for (PetscInt e = 0; e < mx->nr_local; e++) {
-    PetscReal res_r = PetscRealPart(bb[e] - kx[e]);
-    PetscReal dq    = PetscRealPart(kx[e] + xx[e] - bb[e]); /* T D^ q~ including prescribed dofs */
-    loc[0] += res_r * res_r;
-    loc[1] += dq * dq;
-    loc[4] += PetscRealPart(bb[e] * bb[e]);
-    loc[5] += PetscRealPart(xx[e] * xx[e]);
-  }
-  for (PetscInt e = mx->nr_local; e < mx->nlocal; e++) {
-    PetscReal res_q = PetscRealPart(bb[e] - kx[e]);
-    loc[2] += res_q * res_q;
-    loc[3] += PetscRealPart(bb[e] * bb[e]);
-  }
-  PetscCall(VecRestoreArrayRead(Kx, &kx));
-  PetscCall(VecRestoreArrayRead(b, &bb));
-  PetscCall(VecRestoreArrayRead(x, &xx));
-  PetscCall(VecDestroy(&Kx));
+  PetscCall(BwMixedResidualSums(mx, x, b, loc));
   PetscCall(MPIU_Allreduce(loc, glob, 6, MPIU_REAL, MPIU_SUM, mx->comm));
   {
     PetscReal bnorm = PetscSqrtReal(glob[3] + glob[4]), eq = PetscMax(glob[3], glob[5]), co = PetscMax(glob[1], glob[5]);
