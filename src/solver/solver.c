@@ -551,6 +551,13 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
   PetscCall(BwReportString(r, "method_used", BwMethods[s->used]));
   PetscCall(BwReportInt(r, "setups", s->setups));
   PetscCall(BwReportString(r, "schur_solve", s->used == BW_METHOD_FIELDSPLIT && s->schur_used ? s->schur_used : ""));
+  {
+    PetscInt groups;
+    char     desc[128];
+    PetscCall(BwMixedGetSchurGroups(s->mx, &groups, desc, sizeof(desc)));
+    PetscCall(BwReportInt(r, "schur_groups", groups));
+    PetscCall(BwReportString(r, "schur_group_dofs", desc));
+  }
   PetscCall(BwReportInt(r, "fallback", s->fallback));
   PetscCall(BwReportString(r, "fallback_reason", s->fallback_reason));
   PetscCall(BwReportInt(r, "iterations", s->iterations));
@@ -570,6 +577,12 @@ PetscErrorCode BwSolverView(BwSolver s, PetscViewer viewer)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscViewerASCIIPrintf(viewer, "  method: %s (requested %s), iterations %" PetscInt_FMT "%s%s\n", BwMethods[s->used], BwMethods[s->requested], s->iterations, s->fallback ? ", fallback: " : "", s->fallback_reason));
+  {
+    PetscInt groups;
+    char     desc[128];
+    PetscCall(BwMixedGetSchurGroups(s->mx, &groups, desc, sizeof(desc)));
+    if (groups > 1) PetscCall(PetscViewerASCIIPrintf(viewer, "  S^ splits into %" PetscInt_FMT " independent groups of dofs (%s)\n", groups, desc));
+  }
   PetscCall(PetscViewerASCIIPrintf(viewer, "  residual %.3e (equilibrium %.3e, compatibility %.3e; rtol %.1e)\n", (double)s->check.residual, (double)s->check.equilibrium, (double)s->check.compatibility, (double)s->rtol));
   if (s->forward_estimate >= 0 || s->condition_estimate > 0) {
     PetscCall(PetscViewerASCIIPrintf(viewer, "  estimated displacement error "));

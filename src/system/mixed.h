@@ -47,6 +47,9 @@ PetscErrorCode BwMixedSetUp(BwMixed mixed, BwStorage storage);
  * symmetric about a plane normal to X3 then factors as two independent
  * problems. BwMixedSetTangents and BwMixedSetSpring are errors after it. */
 PetscErrorCode BwMixedSetValuesFixed(BwMixed mixed, PetscBool fixed);
+/* How many independent groups of dof kinds S^ splits into (1: none) and,
+ * when more than one, their dof names ("u1 u2 w3 | u3 w1 w2"). */
+PetscErrorCode BwMixedGetSchurGroups(BwMixed mixed, PetscInt *ngroups, char desc[], size_t len);
 PetscErrorCode BwMixedDestroy(BwMixed *mixed);
 
 /* New tangents: 4 per portion of every owned interface, the joint laws'

@@ -45,6 +45,7 @@ struct _n_BwMixed {
   BwCSRValues svals; /* S^'s values as PETSc holds them, for the refill */
   PetscBool  values_fixed; /* BwMixedSetValuesFixed: no refill; S^ without its round-off entries */
   PetscInt   s_groups;     /* the groups of dof kinds that never couple (1: none split) */
+  PetscInt   s_group[BW_MAX_ND]; /* each dof kind's group */
   PetscInt   s_dropped;    /* the entries of the local rows left out between them */
   PetscInt   maxdeg; /* most interfaces of an owned block */
   PetscInt   values_state; /* bumped when BwMixedSetTangents changes the operators' values */

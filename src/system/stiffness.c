@@ -253,6 +253,7 @@ static PetscErrorCode BwMixedDropRoundoff(BwMixed mx, PetscInt *ia, PetscInt *ja
     ngroups++;
   }
   mx->s_groups = ngroups;
+  for (PetscInt a = 0; a < nd; a++) mx->s_group[a] = group[a];
   if (ngroups == 1) PetscFunctionReturn(PETSC_SUCCESS);
   for (PetscInt r = 0; r < mx->nq_local; r++) {
     PetscInt start = ia[r];
@@ -318,6 +319,28 @@ PetscErrorCode BwMixedAssembleS(BwMixed mx)
   PetscCall(MatSetBlockSize(mx->S, nd));
   PetscCall(MatSetOption(mx->S, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedGetSchurGroups(BwMixed mx, PetscInt *ngroups, char desc[], size_t len)
+{
+  const char *const *names = BwModelDofNames(mx->model);
+
+  PetscFunctionBeginUser;
+  *ngroups = mx->s_groups > 0 ? mx->s_groups : 1;
+  if (!desc) PetscFunctionReturn(PETSC_SUCCESS);
+  desc[0] = 0;
+  if (*ngroups == 1) PetscFunctionReturn(PETSC_SUCCESS);
+  for (PetscInt g = 0; g < *ngroups; g++) {
+    PetscBool first = PETSC_TRUE;
+    if (g) PetscCall(PetscStrlcat(desc, " | ", len));
+    for (PetscInt a = 0; a < mx->nd; a++)
+      if (mx->s_group[a] == g) {
+        if (!first) PetscCall(PetscStrlcat(desc, " ", len));
+        PetscCall(PetscStrlcat(desc, names[a], len));
+        first = PETSC_FALSE;
+      }
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
