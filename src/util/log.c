@@ -160,3 +160,15 @@ PetscErrorCode BwBlasSetThreads(MPI_Comm comm)
   set((int)PetscMax(1, cores > 0 ? cores / local : 1));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
+
+PetscErrorCode BwBlasSetThreadsForRows(PetscInt rows)
+{
+  void (*set)(int);
+
+  PetscFunctionBeginUser;
+  if (rows >= BW_BLAS_SHARED_ROWS) PetscFunctionReturn(PETSC_SUCCESS);
+  if (getenv("OPENBLAS_NUM_THREADS") || getenv("OMP_NUM_THREADS") || getenv("GOTO_NUM_THREADS")) PetscFunctionReturn(PETSC_SUCCESS);
+  *(void **)&set = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+  if (set) set(1);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

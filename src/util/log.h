@@ -40,5 +40,16 @@ PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char w
  * ranks of a 2-core machine, 45 % of a pushover's time went to sched_yield.
  * Nothing happens with another BLAS. */
 PetscErrorCode BwBlasSetThreads(MPI_Comm comm);
+/* Then, once the size is known: one BLAS thread on a rank whose
+ * factorisations have fewer than `rows` BW_BLAS_SHARED_ROWS rows there.
+ * Its BLAS calls are too small to share (level-1 operations on vectors of
+ * a few thousand entries, fronts of a few hundred rows), and the second
+ * thread spins between them: examples/j4d_cap.yaml on 1 rank took 13.6 s
+ * with two threads (11.9 s of it system time) against 7.7 s with one; a
+ * 2000-block 3D pushover 29.4 s (24.5 s system) against 30.2 s. The
+ * 1e5-block 3D wall's factor gains a little from two (4.75 against 5.15
+ * s). Unless OPENBLAS_NUM_THREADS or OMP_NUM_THREADS says otherwise. */
+#define BW_BLAS_SHARED_ROWS 200000
+PetscErrorCode BwBlasSetThreadsForRows(PetscInt rows);
 /* Path of the BLAS library this process loaded (from /proc/self/maps). */
 PetscErrorCode BwBlasName(char name[], size_t len);
