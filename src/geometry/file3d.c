@@ -23,11 +23,15 @@
  * assembly. A block covering more than 4096 cells (a long foundation) is
  * tested against every block whose box meets its own instead.
  *
- * Overlap: the separating-axis test of two convex polyhedra (the faces'
- * normals of both and the cross products of their edges); the interiors
- * overlap when the projections overlap by more than delta along every
- * axis, and the error gives that depth. Touching faces of dry joints
- * (depth 0) do not overlap. */
+ * Overlap (every pair of candidates, whether the interfaces are detected
+ * or listed): the separating-axis test of two convex polyhedra (the faces'
+ * normals of both and the cross products of their edges) first; where the
+ * projections overlap by more than delta along every axis, the volume the
+ * interiors share (block i clipped by every face plane of block j), and
+ * the blocks overlap when it exceeds BW_OVERLAP_VOLUME of the smaller
+ * block's volume (interface.md: "interiors sharing more than a relative
+ * tolerance of the smaller volume"). Touching faces of dry joints (depth
+ * 0) do not overlap, nor does a corner drawn a little into a neighbour. */
 #include <stdlib.h>
 #include <string.h>
 #include "geometry/validate.h"
@@ -36,6 +40,7 @@
 
 #define BW_FACING_ANGLE_3D 1e-3
 #define BW_BIG_CELLS       4096
+#define BW_OVERLAP_VOLUME  1e-6
 
 typedef struct {
   PetscReal delta, gapmax, cosang;
@@ -114,6 +119,214 @@ static PetscReal BwPenetration(const BwBlocks3 *B, PetscInt i, PetscInt j)
     }
   }
   return best;
+}
+
+/* A polyhedron as a list of faces, each a polygon of 3D points
+ * counter-clockwise seen from outside (n of them, offsets into p). */
+typedef struct {
+  PetscInt   nf, np, capf, capp;
+  PetscInt  *off; /* nf + 1 */
+  PetscReal *p;   /* 3 per point */
+} BwFaces3;
+
+static PetscErrorCode BwFacesPush(BwFaces3 *F, const PetscReal x[3])
+{
+  PetscFunctionBeginUser;
+  if (F->np == F->capp) {
+    F->capp = 2 * F->capp + 64;
+    PetscCall(PetscRealloc(sizeof(PetscReal) * 3 * (size_t)F->capp, &F->p));
+  }
+  for (int k = 0; k < 3; k++) F->p[3 * F->np + k] = x[k];
+  F->np++;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwFacesInit(BwFaces3 *F)
+{
+  PetscFunctionBeginUser;
+  F->nf = F->np = 0;
+  F->capf       = 16;
+  F->capp       = 64;
+  PetscCall(PetscMalloc1(F->capf, &F->off));
+  PetscCall(PetscMalloc1(3 * F->capp, &F->p));
+  F->off[0] = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwFacesDestroy(BwFaces3 *F)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(F->off));
+  PetscCall(PetscFree(F->p));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwFacesClose(BwFaces3 *F)
+{
+  PetscFunctionBeginUser;
+  if (F->nf + 1 >= F->capf) {
+    F->capf = 2 * F->capf + 16;
+    PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)F->capf, &F->off));
+  }
+  /* a face of fewer than 3 points has no area: dropped */
+  if (F->np - F->off[F->nf] < 3) F->np = F->off[F->nf];
+  else F->off[++F->nf] = F->np;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The faces of polyhedron i (reset first). */
+static PetscErrorCode BwFacesOf(const BwBlocks3 *B, PetscInt i, BwFaces3 *F)
+{
+  const BwPolyhedron *P = &B->P[i];
+
+  PetscFunctionBeginUser;
+  if (!F->off) PetscCall(BwFacesInit(F));
+  F->nf = F->np = 0;
+  F->off[0]     = 0;
+  for (PetscInt f = 0; f < P->nfaces; f++) {
+    for (PetscInt k = P->face_offsets[f]; k < P->face_offsets[f + 1]; k++) PetscCall(BwFacesPush(F, &B->x[3 * (B->offsets[i] + P->face_vertices[k])]));
+    PetscCall(BwFacesClose(F));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* F clipped to n . x <= d (into G): each face by Sutherland-Hodgman, and
+ * the cut closed by a face on the plane, its points ordered
+ * counter-clockwise about n (outward there). */
+static PetscErrorCode BwFacesClip(const BwFaces3 *F, const PetscReal n[3], PetscReal d, PetscReal tol, BwFaces3 *G, BwFaces3 *cut)
+{
+  PetscFunctionBeginUser;
+  if (!G->off) PetscCall(BwFacesInit(G));
+  if (!cut->off) PetscCall(BwFacesInit(cut));
+  G->nf = G->np = 0;
+  cut->nf = cut->np = 0;
+  G->off[0] = cut->off[0] = 0;
+  {
+    /* nothing beyond the plane: F as it is (a face of F on the plane must
+     * not get a second copy as the cut) */
+    PetscBool out = PETSC_FALSE;
+    for (PetscInt k = 0; k < F->np && !out; k++) out = BwDot(n, &F->p[3 * k]) - d > tol ? PETSC_TRUE : PETSC_FALSE;
+    if (!out) {
+      for (PetscInt f = 0; f < F->nf; f++) {
+        for (PetscInt k = F->off[f]; k < F->off[f + 1]; k++) PetscCall(BwFacesPush(G, &F->p[3 * k]));
+        PetscCall(BwFacesClose(G));
+      }
+      PetscFunctionReturn(PETSC_SUCCESS);
+    }
+  }
+  for (PetscInt f = 0; f < F->nf; f++) {
+    PetscInt a0 = F->off[f], m = F->off[f + 1] - a0;
+    for (PetscInt k = 0; k < m; k++) {
+      const PetscReal *a = &F->p[3 * (a0 + k)], *b = &F->p[3 * (a0 + (k + 1) % m)];
+      PetscReal        sa = BwDot(n, a) - d, sb = BwDot(n, b) - d;
+      if (sa <= tol) PetscCall(BwFacesPush(G, a));
+      if ((sa < -tol && sb > tol) || (sa > tol && sb < -tol)) {
+        PetscReal t = sa / (sa - sb), x[3];
+        for (int c = 0; c < 3; c++) x[c] = a[c] + t * (b[c] - a[c]);
+        PetscCall(BwFacesPush(G, x));
+        PetscCall(BwFacesPush(cut, x));
+      } else if (PetscAbsReal(sa) <= tol) PetscCall(BwFacesPush(cut, a));
+    }
+    PetscCall(BwFacesClose(G));
+  }
+  if (cut->np >= 3) {
+    /* the cut's points by their angle about n around their mean */
+    PetscReal c[3] = {0, 0, 0}, e1[3], e2[3], len;
+    PetscInt  m = cut->np;
+    for (PetscInt k = 0; k < m; k++)
+      for (int q = 0; q < 3; q++) c[q] += cut->p[3 * k + q] / m;
+    /* e1 normal to n, e2 = n x e1 */
+    e1[0] = PetscAbsReal(n[0]) < 0.9 ? 1 : 0;
+    e1[1] = PetscAbsReal(n[0]) < 0.9 ? 0 : 1;
+    e1[2] = 0;
+    len = BwDot(e1, n);
+    for (int q = 0; q < 3; q++) e1[q] -= len * n[q];
+    len = PetscSqrtReal(BwDot(e1, e1));
+    for (int q = 0; q < 3; q++) e1[q] /= len;
+    BwCross(n, e1, e2);
+    {
+      PetscReal *ang, *pts;
+      PetscInt  *idx;
+      PetscCall(PetscMalloc3(m, &ang, m, &idx, 3 * m, &pts));
+      for (PetscInt k = 0; k < m; k++) {
+        PetscReal v[3] = {cut->p[3 * k] - c[0], cut->p[3 * k + 1] - c[1], cut->p[3 * k + 2] - c[2]};
+        ang[k] = PetscAtan2Real(BwDot(v, e2), BwDot(v, e1));
+        idx[k] = k;
+      }
+      PetscCall(PetscSortRealWithPermutation(m, ang, idx));
+      for (PetscInt k = 0; k < m; k++)
+        for (int q = 0; q < 3; q++) pts[3 * k + q] = cut->p[3 * idx[k] + q];
+      for (PetscInt k = 0; k < m; k++) PetscCall(BwFacesPush(G, &pts[3 * k]));
+      PetscCall(BwFacesClose(G));
+      PetscCall(PetscFree3(ang, idx, pts));
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Volume of a closed polyhedron given by its outward faces (divergence
+ * theorem: V = sum over faces of p0 . A / 3, A the face's area vector). */
+static PetscReal BwFacesVolume(const BwFaces3 *F)
+{
+  PetscReal v = 0;
+  for (PetscInt f = 0; f < F->nf; f++) {
+    PetscInt         a0 = F->off[f], m = F->off[f + 1] - a0;
+    const PetscReal *p0 = &F->p[3 * a0];
+    PetscReal        A[3] = {0, 0, 0};
+    for (PetscInt k = 1; k + 1 < m; k++) {
+      const PetscReal *p1 = &F->p[3 * (a0 + k)], *p2 = &F->p[3 * (a0 + k + 1)];
+      PetscReal        u[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]}, w[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]}, x[3];
+      BwCross(u, w, x);
+      for (int q = 0; q < 3; q++) A[q] += x[q] / 2;
+    }
+    v += BwDot(p0, A) / 3;
+  }
+  return v;
+}
+
+/* The volume blocks i and j share: i clipped by every face plane of j. The
+ * points are taken relative to i's centroid, so that the volume's terms
+ * are of the blocks' size wherever the assembly lies. */
+static PetscErrorCode BwSharedVolume(const BwBlocks3 *B, PetscInt i, PetscInt j, PetscReal tol, BwFaces3 w[3], PetscReal *vol)
+{
+  const BwPolyhedron *Pj = &B->P[j];
+  const PetscReal    *o = B->P[i].centroid;
+  BwFaces3           *F = &w[0], *G = &w[1], *tmp;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwFacesOf(B, i, F));
+  for (PetscInt k = 0; k < F->np; k++)
+    for (int q = 0; q < 3; q++) F->p[3 * k + q] -= o[q];
+  for (PetscInt f = 0; f < Pj->nfaces && F->nf; f++) {
+    const PetscReal *nd = &Pj->normal[4 * f];
+    PetscCall(BwFacesClip(F, nd, nd[3] - BwDot(nd, o), tol, G, &w[2]));
+    tmp = F;
+    F   = G;
+    G   = tmp;
+  }
+  *vol = F->nf ? PetscMax(BwFacesVolume(F), 0) : 0;
+  if (F != &w[0]) { /* the result back in w[0] for the caller's reuse */
+    BwFaces3 t = w[0];
+    w[0]       = *F;
+    *F         = t;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Blocks i and j overlap (see the head of this file): *depth > 0 and the
+ * shared volume, else *depth <= 0. */
+static PetscErrorCode BwOverlap3D(const BwBlocks3 *B, const BwTol3 *tol, PetscInt i, PetscInt j, BwFaces3 w[3], PetscReal *depth, PetscReal *shared)
+{
+  PetscFunctionBeginUser;
+  *shared = 0;
+  *depth  = BwPenetration(B, i, j);
+  if (*depth <= tol->delta) {
+    *depth = 0;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(BwSharedVolume(B, i, j, 1e-3 * tol->delta, w, shared));
+  if (!(*shared > BW_OVERLAP_VOLUME * PetscMin(B->P[i].volume, B->P[j].volume))) *depth = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* ------------------------------------------------------------ facing faces */
@@ -401,6 +614,7 @@ PetscErrorCode BwFileBuild3D(BwGeometry g, const char file[], PetscInt nv, const
   PetscReal  xmax = 0, *diag, h, *work = NULL;
   PetscInt   maxw = 0, nf = 0, nfv = 0, np, *pr;
   BwPoly3    poly = {0, 0, NULL};
+  BwFaces3   fw[3] = {{0, 0, 0, 0, NULL, NULL}, {0, 0, 0, 0, NULL, NULL}, {0, 0, 0, 0, NULL, NULL}}; /* the overlap check's work */
 
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < nb; b++)
@@ -491,16 +705,19 @@ PetscErrorCode BwFileBuild3D(BwGeometry g, const char file[], PetscInt nv, const
     PetscCall(BwCandidates3D(&B, h > 0 ? h : 1, tol.gapmax, &np, &pr));
     for (PetscInt k = 0; k < np; k++) {
       PetscInt  i = pr[2 * k], j = pr[2 * k + 1];
-      PetscReal depth = BwPenetration(&B, i, j), n[3];
+      PetscReal depth, shared, n[3];
       PetscBool found;
-      if (depth > tol.delta) {
+      PetscCall(BwOverlap3D(&B, &tol, i, j, fw, &depth, &shared));
+      if (depth > 0) {
+        PetscReal frac = shared / PetscMin(B.P[i].volume, B.P[j].volume);
         PetscCall(PetscFree(pr));
         PetscCall(PetscFree(work));
         PetscCall(PetscFree(poly.p));
+        for (int w = 0; w < 3; w++) PetscCall(BwFacesDestroy(&fw[w]));
         for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&B.P[b]));
         PetscCall(PetscFree(B.P));
         PetscCall(PetscFree(B.box));
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share a depth of %g m along every separating direction (tolerance %g m)", file, i, j, (double)depth, (double)tol.delta);
+        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %g m^3, %.3g of the smaller block (tolerance %g), %g m deep along every separating direction", file, i, j, (double)shared, (double)frac, (double)BW_OVERLAP_VOLUME, (double)depth);
       }
       PetscCall(BwFacing3D(&B, &tol, i, j, work, maxw + 4, &poly, n, &found));
       if (found) PetscCall(BwAddInterface3D(g, i, j, &poly, n));
@@ -509,6 +726,18 @@ PetscErrorCode BwFileBuild3D(BwGeometry g, const char file[], PetscInt nv, const
   } else {
     PetscErrorCode ierr = PETSC_SUCCESS;
     char           msg[512];
+    /* listed interfaces: the blocks are checked for overlap all the same */
+    PetscCall(BwCandidates3D(&B, h > 0 ? h : 1, tol.gapmax, &np, &pr));
+    for (PetscInt k = 0; k < np && !ierr; k++) {
+      PetscInt  i = pr[2 * k], j = pr[2 * k + 1];
+      PetscReal depth, shared;
+      PetscCall(BwOverlap3D(&B, &tol, i, j, fw, &depth, &shared));
+      if (depth > 0) {
+        ierr = PETSC_ERR_USER_INPUT;
+        PetscCall(PetscSNPrintf(msg, sizeof(msg), "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %g m^3, %.3g of the smaller block (tolerance %g), %g m deep along every separating direction", file, i, j, (double)shared, (double)(shared / PetscMin(B.P[i].volume, B.P[j].volume)), (double)BW_OVERLAP_VOLUME, (double)depth));
+      }
+    }
+    PetscCall(PetscFree(pr));
     for (PetscInt k = 0; k < ni && !ierr; k++) {
       PetscInt  i = (PetscInt)pairs[2 * k], j = (PetscInt)pairs[2 * k + 1];
       PetscReal n[3];
@@ -530,6 +759,7 @@ PetscErrorCode BwFileBuild3D(BwGeometry g, const char file[], PetscInt nv, const
     if (ierr) {
       PetscCall(PetscFree(work));
       PetscCall(PetscFree(poly.p));
+      for (int w = 0; w < 3; w++) PetscCall(BwFacesDestroy(&fw[w]));
       for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&B.P[b]));
       PetscCall(PetscFree(B.P));
       PetscCall(PetscFree(B.box));
@@ -542,6 +772,7 @@ PetscErrorCode BwFileBuild3D(BwGeometry g, const char file[], PetscInt nv, const
   }
   PetscCall(PetscFree(work));
   PetscCall(PetscFree(poly.p));
+  for (int w = 0; w < 3; w++) PetscCall(BwFacesDestroy(&fw[w]));
   for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&B.P[b]));
   PetscCall(PetscFree(B.P));
   PetscCall(PetscFree(B.box));

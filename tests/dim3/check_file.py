@@ -173,6 +173,20 @@ def check_twoboxes(ranks):
     del vol
 
 
+def corner_cube(depth, top=1.0):
+    """A unit cube standing on a corner (its main diagonal along X2) above
+    the middle of the face y = top, its lowest corner `depth` below it."""
+    v = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+    a = np.array([1.0, 1.0, 1.0]) / np.sqrt(3)  # turned onto X2 about a x X2
+    b = np.array([0.0, 1.0, 0.0])
+    k = np.cross(a, b)
+    s, c = np.linalg.norm(k), a @ b
+    k /= s
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    w = v @ (np.eye(3) + s * K + (1 - c) * K @ K).T
+    return w + [0.5, top - depth - w[:, 1].min(), 0.5]
+
+
 def check_errors(ranks):
     from bwrun import run
     cube = bw.box(0, 0, 0, 1, 1, 1)
@@ -185,7 +199,17 @@ def check_errors(ranks):
         "repeated": ([cube, np.vstack([top, top[3:4]])], None, [], ["block 1: vertex row 16", "repeats vertex row 11"]),
         "on_edge": ([cube, np.vstack([top, [[0.5, 1.01, 0]]])], None, [], ["block 1: vertex row 16 (0.5, 1.01, 0", "is not a corner"]),
         "nan": ([cube, np.vstack([top[:7], [[np.nan, 2.01, 1]]])], None, [], ["block 1: vertex row 15 is not finite"]),
-        "overlap": ([cube, cube + [0.5, 0.5, 0.5]], None, [], ["blocks 0 and 1 overlap"]),
+        "overlap": ([cube, cube + [0.5, 0.5, 0.5]], None, [], ["blocks 0 and 1 overlap", "share 0.125 m^3, 0.125 of the smaller"]),
+        # listed interfaces are no excuse: the blocks are checked all the same
+        "overlap_listed": ([cube, cube + [0.5, 0.5, 0.5]], [(0, 1)], [], ["blocks 0 and 1 overlap"]),
+        # a cube standing on its corner, 0.2 m into the one below: the
+        # corner tetrahedron (0.2 sqrt(3))^3 / 6 = 6.93e-3 m^3 is shared
+        "overlap_corner": ([cube, corner_cube(0.2)], None, [], ["blocks 0 and 1 overlap", "share 0.00692"]),
+        # 5 mm in: (0.005 sqrt(3))^3 / 6 = 1.1e-7 of the unit cube, below
+        # the 1e-6 of interface.md's "relative tolerance of the smaller
+        # volume" (the separating-axis depth alone, 5 mm, refused it): no
+        # overlap, and the block, facing none, is held by nothing
+        "corner_shallow": ([cube, top, corner_cube(0.005, 2.01)], None, [], ["block 2 (1 block) has no path of interfaces to a support"]),
         "not_facing": ([cube, top + [0, 0.5, 0]], [(0, 1)], [], ["interface 0 joins blocks 0 and 1, which have no facing faces"]),
         "pair_twice": ([cube, top], [(0, 1), (0, 1)], [], ["interface 1 repeats the pair (0, 1) of interface 0"]),
         "dimension_2": ([cube, top], None, ["-geometry_dimension", "2"], ["-geometry_dimension is 2, but the geometry file", "holds 3D blocks"]),
