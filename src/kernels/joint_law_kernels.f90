@@ -164,8 +164,18 @@ contains
       if (.not. finite(law%rate(i))) status = BW_LAW_BAD_STRENGTH
     end do
     if (with_cap) call make_cap(par, law, status)
-    law%nv = reshape([ZERO, ONE, ONE, law%tphi, -ONE, law%tphi], [2, 3])
-    law%mv = reshape([ZERO, ONE, ONE, law%tpsi, -ONE, law%tpsi], [2, 3])
+    ! element by element: an array constructor with a variable is reshaped by a
+    ! library call, and the law is made at every kernel call
+    law%nv(:, 1) = [ZERO, ONE]
+    law%nv(1, 2) = ONE
+    law%nv(2, 2) = law%tphi
+    law%nv(1, 3) = -ONE
+    law%nv(2, 3) = law%tphi
+    law%mv(:, 1) = [ZERO, ONE]
+    law%mv(1, 2) = ONE
+    law%mv(2, 2) = law%tpsi
+    law%mv(1, 3) = -ONE
+    law%mv(2, 3) = law%tpsi
     law%cm(1, :) = law%kt * law%mv(1, :)
     law%cm(2, :) = law%kn * law%mv(2, :)
   end subroutine make_law
@@ -357,7 +367,10 @@ contains
     integer :: i, j, m
     m = size(set)
     ds = dstrength(law, k)
-    t = reshape([law%kt, ZERO, ZERO, law%kn], [2, 2])
+    t(1, 1) = law%kt
+    t(2, 1) = ZERO
+    t(1, 2) = ZERO
+    t(2, 2) = law%kn
     a = ZERO
     nc = ZERO
     do i = 1, m
@@ -369,12 +382,21 @@ contains
     end do
     if (m == 1) then
       ok = abs(a(1, 1)) > 0
-      if (ok) t = t - spread(law%cm(:, set(1)), 2, 2) * spread(nc(1, :), 1, 2) / a(1, 1)
+      if (ok) then
+        do j = 1, 2
+          do i = 1, 2
+            t(i, j) = t(i, j) - law%cm(i, set(1)) * nc(1, j) / a(1, 1)
+          end do
+        end do
+      end if
     else
       det = a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)
       ok = abs(det) > 0
       if (.not. ok) return
-      ainv = reshape([a(2, 2), -a(2, 1), -a(1, 2), a(1, 1)], [2, 2]) / det
+      ainv(1, 1) = a(2, 2) / det
+      ainv(2, 1) = -a(2, 1) / det
+      ainv(1, 2) = -a(1, 2) / det
+      ainv(2, 2) = a(1, 1) / det
       t = t - matmul(law%cm(:, set), matmul(ainv, nc))
     end if
   end subroutine consistent_tangent
@@ -921,7 +943,10 @@ contains
     ! the cap alone, its corner with the cone's half the trial shear points to, with the
     ! cut-off, and the three together
     h = merge(2, 3, rtr(1) >= 0)
-    order = reshape([0, 0, h, 0, 1, 0, 1, h], [2, 4])
+    order(:, 1) = [0, 0]
+    order(:, 2) = [h, 0]
+    order(:, 3) = [1, 0]
+    order(:, 4) = [1, h]
     do a = 1, 4
       cand = cap_return(law, rtr, state(3:5), sig, order(:, a))
       if (cand%failed .or. .not. cand%valid) cycle
@@ -983,7 +1008,8 @@ contains
     state_new = [state(1) + state2_new(1) * e(1), state2_new(2:NSTATE_2D), state(ISLIPB) + state2_new(1) * e(2)]
     ratio = t2(1, 1) / law%kt
     if (s > 0) ratio = r2(1) / s
-    pe = spread(e, 2, 2) * spread(e, 1, 2)
+    pe(:, 1) = e * e(1)
+    pe(:, 2) = e * e(2)
     pe = t2(1, 1) * pe + law%kt * ratio * (reshape([ONE, ZERO, ZERO, ONE], [2, 2]) - pe)
     t(1, :) = [pe(1, 1), t2(1, 2) * e(1), pe(1, 2)]
     t(2, :) = [t2(2, 1) * e(1), t2(2, 2), t2(2, 1) * e(2)]
@@ -1066,7 +1092,7 @@ contains
         tangent(:, p) = [t(1, 1), t(1, 2), t(2, 1), t(2, 2)]
       else
         call portion_3d(law, state_in(:, p), jump(:, p), stress(:, p), t3, state_out(:, p), mode(p), status)
-        tangent(:, p) = reshape(transpose(t3), [9])
+        tangent(:, p) = [t3(1, :), t3(2, :), t3(3, :)]
       end if
       if (status /= BW_LAW_OK) return
     end do

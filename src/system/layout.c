@@ -118,6 +118,7 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
   mx->geom  = geom;
   mx->model = model;
   mx->spring_block = -1;
+  mx->spring_written = -1;
   mx->m     = model->m;
   mx->dim   = geom->dim;
   mx->nd    = geom->dim == 3 ? 6 : 3;
@@ -251,6 +252,7 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed)
   PetscCall(PetscFree2(mx->tangent, mx->scaled_tangent));
   PetscCall(PetscFree(mx->kg_interfaces));
   PetscCall(PetscFree(mx->kg));
+  PetscCall(PetscFree2(mx->tangent_changed, mx->kg_changed));
   PetscCall(VecScatterDestroy(&mx->kg_scatter));
   PetscCall(VecDestroy(&mx->kg_owned));
   PetscCall(VecDestroy(&mx->kg_ghost));

@@ -61,6 +61,11 @@ struct _n_BwMixed {
   PetscReal *scaled_tangent; /* T = C^-1/2 C_t C^-1/2, 4 per portion, from tangent */
   PetscInt   nkg, *kg_interfaces; /* sorted */
   PetscReal *kg;
+  /* what a refill must redo: the owned interfaces whose tangents changed
+   * since the last refill (NULL: all), the K_G of kg_interfaces that
+   * changed, the spring's block at the last write (its rows change with it) */
+  PetscBool *tangent_changed, *kg_changed;
+  PetscInt   spring_written;
   VecScatter kg_scatter;          /* owners' K_G -> ranks that assemble rows with them */
   Vec        kg_owned, kg_ghost;
 };

@@ -19,6 +19,7 @@
  * D^ is defined once. Dofs of blocks owned by other ranks come through one
  * scatter (forward for D^ q, reverse with addition for D^T y); none on one
  * rank. */
+#include <string.h>
 #include "system/mixed_impl.h"
 #include "util/compat.h"
 #include "blockwall/kernels.h"
@@ -353,18 +354,24 @@ static inline void BwApplyScaledTangent(PetscInt ns, const PetscReal T[], PetscS
   }
 }
 
+/* The owned portions are stored one after the other, interface after
+ * interface (BwLocalPortion), so T is applied portion by portion over the
+ * whole stress part, with the dimension's constant sizes. */
+static inline void BwApplyTangentLoop(PetscInt n, const PetscReal *T, PetscScalar *y, const PetscInt ns)
+{
+  for (PetscInt p = 0; p < n; p++) BwApplyScaledTangent(ns, T + ns * ns * p, y + ns * p);
+}
+
 PetscErrorCode BwMixedApplyTangent(BwMixed mx, Vec yr)
 {
-  const PetscInt ns = mx->ns;
-  PetscScalar   *y;
+  PetscScalar *y;
+  PetscInt     n = mx->nr_local / mx->ns;
 
   PetscFunctionBeginUser;
   if (!mx->tangent) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(VecGetArray(yr, &y));
-  for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
-    PetscInt k = mx->own_interfaces[e], lp = BwLocalPortion(mx, k), np = BwPortionsCount(&mx->portions, k);
-    for (PetscInt p = 0; p < np; p++) BwApplyScaledTangent(ns, mx->scaled_tangent + ns * ns * (lp + p), y + ns * (lp + p));
-  }
+  if (mx->ns == 2) BwApplyTangentLoop(n, mx->scaled_tangent, y, 2);
+  else BwApplyTangentLoop(n, mx->scaled_tangent, y, 3);
   PetscCall(VecRestoreArray(yr, &y));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -801,13 +808,22 @@ PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
   PetscInt       n  = ns * ns * (mx->nr_local / ns); /* ns x ns per owned portion */
 
   PetscFunctionBeginUser;
+  if (!mx->tangent_changed) PetscCall(PetscMalloc2(mx->nown_interfaces + 1, &mx->tangent_changed, mx->nkg + 1, &mx->kg_changed));
   if (tangent) {
+    PetscBool first = mx->tangent ? PETSC_FALSE : PETSC_TRUE;
     if (!mx->tangent) PetscCall(PetscMalloc2(n + 1, &mx->tangent, n + 1, &mx->scaled_tangent));
+    /* which interfaces' tangents changed: a Newton iteration changes those
+     * of the portions that flow, and the refill redoes only what they touch */
+    for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+      PetscInt k = mx->own_interfaces[e], lp = BwLocalPortion(mx, k), np = BwPortionsCount(&mx->portions, k);
+      mx->tangent_changed[e] = first || memcmp(mx->tangent + ns * ns * lp, tangent + ns * ns * lp, sizeof(PetscReal) * ns * ns * np) ? PETSC_TRUE : PETSC_FALSE;
+    }
     PetscCall(PetscArraycpy(mx->tangent, tangent, n));
     /* T = C^-1/2 C_t C^-1/2 once here: every product with K applies it */
     for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
       PetscInt  k = mx->own_interfaces[e], lp = BwLocalPortion(mx, k), np = BwPortionsCount(&mx->portions, k);
       PetscReal st = 1 / PetscSqrtReal(mx->model->kt[k]), sn = 1 / PetscSqrtReal(mx->model->kn[k]), sc[BW_MAX_NS];
+      if (!mx->tangent_changed[e]) continue;
       for (PetscInt a = 0; a < ns; a++) sc[a] = a == 1 ? sn : st;
       for (PetscInt p = 0; p < np; p++) {
         const PetscReal *c = mx->tangent + ns * ns * (lp + p);
@@ -816,7 +832,10 @@ PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
           for (PetscInt b = 0; b < ns; b++) t[ns * a + b] = c[ns * a + b] * sc[a] * sc[b];
       }
     }
-  } else PetscCall(PetscFree2(mx->tangent, mx->scaled_tangent));
+  } else {
+    PetscCall(PetscFree2(mx->tangent, mx->scaled_tangent));
+    for (PetscInt e = 0; e < mx->nown_interfaces; e++) mx->tangent_changed[e] = PETSC_TRUE;
+  }
   PetscCall(BwMixedValuesChanged(mx));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

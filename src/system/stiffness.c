@@ -32,6 +32,7 @@
  * quarter of its flops. An entry dropped is at most BW_S_ROUNDOFF of the
  * diagonal, about what the factorisation's own round-off changes, and the
  * outer iterations run on the exact operator K. */
+#include <string.h>
 #include "system/mixed_impl.h"
 #include "util/compat.h"
 #include "blockwall/kernels.h"
@@ -56,7 +57,7 @@ static PetscErrorCode BwMixedStiffnessInterfaces(BwMixed mx)
   }
   PetscCall(PetscSortRemoveDupsInt(&n, mx->kg_interfaces));
   mx->nkg = n;
-  PetscCall(PetscMalloc1(mx->nd * mx->nd * n + 1, &mx->kg));
+  PetscCall(PetscCalloc1(mx->nd * mx->nd * n + 1, &mx->kg));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -92,7 +93,12 @@ static PetscErrorCode BwMixedCondense(BwMixed mx)
 
   PetscFunctionBeginUser;
   if (!mx->tangent) {
-    for (PetscInt e = 0; e < mx->nkg; e++) PetscCall(BwMixedElasticStiffness(mx, mx->kg_interfaces[e], mx->kg + mx->nd * mx->nd * e));
+    for (PetscInt e = 0; e < mx->nkg; e++) {
+      PetscReal kg[BW_MAX_ND * BW_MAX_ND];
+      PetscCall(BwMixedElasticStiffness(mx, mx->kg_interfaces[e], kg));
+      if (mx->kg_changed) mx->kg_changed[e] = memcmp(kg, mx->kg + nkg * e, sizeof(PetscReal) * nkg) ? PETSC_TRUE : PETSC_FALSE;
+      PetscCall(PetscArraycpy(mx->kg + nkg * e, kg, nkg));
+    }
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   if (!mx->kg_scatter) {
@@ -115,6 +121,7 @@ static PetscErrorCode BwMixedCondense(BwMixed mx)
     PetscCall(VecGetArray(mx->kg_owned, &o));
     for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
       PetscInt         k = mx->own_interfaces[e];
+      if (mx->tangent_changed && !mx->tangent_changed[e]) continue; /* its K_G is in kg_owned already */
       PetscReal        kg[BW_MAX_ND * BW_MAX_ND];
       const PetscReal *area, *xi, *eta;
       PetscInt         np = BwMixedPortions(mx, k, &area, &xi, &eta, NULL);
@@ -127,7 +134,14 @@ static PetscErrorCode BwMixedCondense(BwMixed mx)
     PetscCall(VecScatterBegin(mx->kg_scatter, mx->kg_owned, mx->kg_ghost, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecScatterEnd(mx->kg_scatter, mx->kg_owned, mx->kg_ghost, INSERT_VALUES, SCATTER_FORWARD));
     PetscCall(VecGetArrayRead(mx->kg_ghost, &gh));
-    for (PetscInt c = 0; c < nkg * mx->nkg; c++) mx->kg[c] = PetscRealPart(gh[c]);
+    for (PetscInt e = 0; e < mx->nkg; e++) {
+      PetscBool changed = PETSC_FALSE;
+      for (PetscInt c = nkg * e; c < nkg * (e + 1); c++) {
+        changed = (PetscBool)(changed || mx->kg[c] != PetscRealPart(gh[c]));
+        mx->kg[c] = PetscRealPart(gh[c]);
+      }
+      if (mx->kg_changed) mx->kg_changed[e] = changed;
+    }
     PetscCall(VecRestoreArrayRead(mx->kg_ghost, &gh));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -188,9 +202,23 @@ static PetscErrorCode BwMixedBlockRows(BwMixed mx, PetscInt b, PetscBool values,
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Block b's rows must be written again: an interface of it has a new K_G,
+ * or the spring is, or was, on it. */
+static PetscBool BwMixedBlockDirty(BwMixed mx, PetscInt b)
+{
+  if (!mx->tangent_changed || !mx->kg_changed) return PETSC_TRUE;
+  if (b == mx->spring_block || b == mx->spring_written) return PETSC_TRUE;
+  for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
+    PetscInt loc;
+    if (PetscFindInt(mx->adj[a], mx->nkg, mx->kg_interfaces, &loc) || loc < 0 || mx->kg_changed[loc]) return PETSC_TRUE;
+  }
+  return PETSC_FALSE;
+}
+
 /* Writes the values of the owned rows into the arrays PETSc holds: each
  * row's sorted columns fall in order into the diagonal part (columns of
- * this rank) or the off-diagonal part. */
+ * this rank) or the off-diagonal part. Rows whose inputs did not change
+ * since the last write keep their values (the same numbers). */
 static PetscErrorCode BwMixedWriteS(BwMixed mx, BwRowWork *w)
 {
   const PetscInt ndof = mx->nd;
@@ -200,6 +228,10 @@ static PetscErrorCode BwMixedWriteS(BwMixed mx, BwRowWork *w)
   for (PetscInt e = 0; e < mx->nown_blocks; e++) {
     PetscInt b = mx->own_blocks[e], nn;
     if (mx->qrow[b] < 0) continue;
+    if (!BwMixedBlockDirty(mx, b)) {
+      row += ndof;
+      continue;
+    }
     PetscCall(BwMixedBlockRows(mx, b, PETSC_TRUE, w, &nn));
     for (PetscInt r = 0; r < ndof; r++, row++) {
       PetscInt nd = mx->svals.di[row], no = mx->svals.oi ? mx->svals.oi[row] : 0;
@@ -355,6 +387,9 @@ PetscErrorCode BwMixedRefillS(BwMixed mx)
   PetscCall(BwMixedCondense(mx));
   PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, mx->nd * mx->nd * (mx->maxdeg + 1), &w.acc));
   PetscCall(BwMixedWriteS(mx, &w));
+  mx->spring_written = mx->spring_block;
+  /* the new tangents are in K_G now: a refill for the spring alone redoes no interface */
+  for (PetscInt e = 0; mx->tangent_changed && e < mx->nown_interfaces; e++) mx->tangent_changed[e] = PETSC_FALSE;
   PetscCall(PetscFree3(w.nbr, w.col, w.acc));
   /* the values changed in place: whoever factored S^ must factor again */
   PetscCall(BwMatValuesChanged(mx->S));
