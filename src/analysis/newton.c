@@ -19,6 +19,7 @@ struct _n_BwNewton {
   PetscInt     its, total_its, total_solves;
   PetscReal    residual;
   char         reason[512];
+  PetscBool    failed_elastic; /* the last dissipation solve failed because no portion flows */
   PetscReal   *load0, *pattern;
   BwLog        log; /* the linear solves' own phases, quietly (a pushover makes thousands) */
   PetscBool    debug; /* analysis.newton_monitor: one line per iteration */
@@ -290,8 +291,9 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
   PetscInt  changes;
 
   PetscFunctionBeginUser;
-  *converged    = PETSC_FALSE;
-  nw->reason[0] = 0;
+  *converged         = PETSC_FALSE;
+  nw->reason[0]      = 0;
+  nw->failed_elastic = PETSC_FALSE;
   nw->its       = 0;
   PetscCheck(!displacement || nw->mon_row >= 0, nw->p->comm, PETSC_ERR_ORDER, "displacement control without a monitor");
   PetscCall(VecCopy(nw->x, nw->xn));
@@ -432,6 +434,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
         if (!PetscIsNormalReal(det) || rel < 1e-9) {
           if (nw->its > 0 || !(PetscAbsReal(1 - ec) > 0)) {
             PetscCall(PetscSNPrintf(nw->reason, sizeof(nw->reason), "the dissipation constraint does not depend on the load factor here (no portion flows: an elastic state)"));
+            nw->failed_elastic = PETSC_TRUE;
             break;
           }
           dlam = PetscMax(PetscAbsReal(nw->last_dlambda), 0.01 * PetscAbsReal(lam));
@@ -552,6 +555,13 @@ PetscErrorCode BwNewtonCommit(BwNewton nw)
   PetscCall(VecCopy(nw->xn, nw->x));
   PetscCall(BwJointFieldCommit(nw->field));
   nw->last_dlambda = nw->lambda_trial;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonFailedElastic(BwNewton nw, PetscBool *elastic)
+{
+  PetscFunctionBeginUser;
+  *elastic = nw->failed_elastic;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

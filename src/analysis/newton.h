@@ -68,6 +68,10 @@ PetscErrorCode BwNewtonRamp(BwNewton newton, PetscReal min_step, PetscInt *subst
 PetscErrorCode BwNewtonCommit(BwNewton newton);
 /* The last solve: iterations, relative true residual, the reason it failed. */
 PetscErrorCode BwNewtonGetResult(BwNewton newton, PetscInt *its, PetscReal *residual, const char **reason);
+/* Whether the last dissipation-controlled solve failed because the state
+ * is elastic (the constraint does not see lambda), not because Newton did
+ * not converge. */
+PetscErrorCode BwNewtonFailedElastic(BwNewton newton, PetscBool *elastic);
 /* The committed solution (K layout) and the joint field. */
 PetscErrorCode BwNewtonGetSolution(BwNewton newton, Vec *x, BwJointField *field);
 /* The loads of the committed state, mu F0 + lambda P (3 per block, replicated). */
