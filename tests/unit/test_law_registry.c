@@ -61,7 +61,7 @@ int main(int argc, char **argv)
     EXPECT(!strcmp(bed->type, "dry") && bed->par[BW_LAW_PAR_KN] == 3e9 && bed->par[BW_LAW_PAR_KT] == 1e9, "dry: %s kn %g kt %g", bed->type, bed->par[BW_LAW_PAR_KN], bed->par[BW_LAW_PAR_KT]);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "dry: kn, kt as given\n"));
   } else if (!strcmp(which, "elastic")) {
-    PetscReal st[4] = {1e-6, 2e-6, 0, 0}, j[2] = {3e-5, -4e-5}, r[2], t[4];
+    PetscReal st[BW_LAW_NSTATE] = {1e-6, 2e-6}, j[2] = {3e-5, -4e-5}, r[2], t[4]; /* the rest of the state 0 */
     signed char mode;
     EXPECT(!strcmp(bed->kernel_name, "elastic"), "kernel %s without strength", bed->kernel_name);
     PetscCall(Evaluate(bed, st, j, r, t, &mode));
