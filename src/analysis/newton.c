@@ -294,7 +294,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
   *converged         = PETSC_FALSE;
   nw->reason[0]      = 0;
   nw->failed_elastic = PETSC_FALSE;
-  nw->its       = 0;
+  nw->its            = 0;
   PetscCheck(!displacement || nw->mon_row >= 0, nw->p->comm, PETSC_ERR_ORDER, "displacement control without a monitor");
   PetscCall(VecCopy(nw->x, nw->xn));
   PetscCall(BwJointFieldBeginStep(nw->field));

@@ -374,7 +374,7 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
         if (!(tau_failed > 0)) tau_failed = tau;
         tau /= 2;
         if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": energy per step cut to %.3e (%s)\n", h->n, (double)tau, reason));
-        if (tau < tau_min && !elastic && over == 0) {
+        if (tau < tau_min && !elastic) {
           over = 1;
           tau  = 4 * tau_failed;
           if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": stepping over with %.3e J\n", h->n, (double)tau));

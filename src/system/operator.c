@@ -808,15 +808,16 @@ PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
   PetscInt       n  = ns * ns * (mx->nr_local / ns); /* ns x ns per owned portion */
 
   PetscFunctionBeginUser;
-  if (!mx->tangent_changed) PetscCall(PetscMalloc2(mx->nown_interfaces + 1, &mx->tangent_changed, mx->nkg + 1, &mx->kg_changed));
+  if (!mx->tangent_changed) PetscCall(PetscCalloc2(mx->nown_interfaces + 1, &mx->tangent_changed, mx->nkg + 1, &mx->kg_changed));
   if (tangent) {
     PetscBool first = mx->tangent ? PETSC_FALSE : PETSC_TRUE;
     if (!mx->tangent) PetscCall(PetscMalloc2(n + 1, &mx->tangent, n + 1, &mx->scaled_tangent));
-    /* which interfaces' tangents changed: a Newton iteration changes those
-     * of the portions that flow, and the refill redoes only what they touch */
+    /* which interfaces' tangents changed since the last refill (which
+     * clears the flags): a Newton iteration changes those of the portions
+     * that flow, and the refill redoes only what they touch */
     for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
       PetscInt k = mx->own_interfaces[e], lp = BwLocalPortion(mx, k), np = BwPortionsCount(&mx->portions, k);
-      mx->tangent_changed[e] = first || memcmp(mx->tangent + ns * ns * lp, tangent + ns * ns * lp, sizeof(PetscReal) * ns * ns * np) ? PETSC_TRUE : PETSC_FALSE;
+      if (first || memcmp(mx->tangent + ns * ns * lp, tangent + ns * ns * lp, sizeof(PetscReal) * ns * ns * np)) mx->tangent_changed[e] = PETSC_TRUE;
     }
     PetscCall(PetscArraycpy(mx->tangent, tangent, n));
     /* T = C^-1/2 C_t C^-1/2 once here: every product with K applies it */
