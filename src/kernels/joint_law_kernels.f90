@@ -107,6 +107,7 @@ module bw_joint_law_kernels
   type :: candidate_t
     logical :: valid = .false., strict = .false., failed = .false.
     real(c_double) :: dl(3) = ZERO, r(2) = ZERO, k(2) = ZERO, t(2, 2) = ZERO
+    real(c_double) :: s(2) = ZERO ! strength(law, k): the exponentials once per candidate
     real(c_double) :: mu = ZERO, k3 = ZERO ! the cap's multiplier and k3 (cap_return)
   end type candidate_t
 
@@ -281,10 +282,16 @@ contains
     type(law_t), intent(in) :: law
     real(c_double), intent(in) :: r(2), k(2)
     real(c_double) :: f(3)
-    real(c_double) :: s(2)
-    s = strength(law, k)
-    f = matmul(r, law%nv) - s(KVAR)
+    f = surfaces_at(law, r, strength(law, k))
   end function surfaces
+
+  ! The same with the strengths s = strength(law, k) already at hand.
+  pure function surfaces_at(law, r, s) result(f)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: r(2), s(2)
+    real(c_double) :: f(3)
+    f = matmul(r, law%nv) - s(KVAR)
+  end function surfaces_at
 
   ! Admissible: multipliers of the set >= 0 and no surface violated; strict: the
   ! surfaces outside the set are not touched either.
@@ -295,7 +302,7 @@ contains
     type(candidate_t), intent(inout) :: cand
     real(c_double) :: f(3)
     integer :: b
-    f = surfaces(law, cand%r, cand%k)
+    f = surfaces_at(law, cand%r, cand%s)
     cand%valid = all(cand%dl(set) * min(law%kt, law%kn) >= -ATOL * sig) .and. all(f <= ATOL * sig)
     cand%strict = .true.
     do b = 1, 3
@@ -323,11 +330,13 @@ contains
     x = x0
     if (.not. (rate > 0)) return
     lo = max(x0, xmin)
-    if (g0 - nca * lo - s0 * exp(min(-rate * (k0 + lo), MAXEXP)) < 0) return
+    sx = s0 * exp(min(-rate * (k0 + lo), MAXEXP))
+    if (g0 - nca * lo - sx < 0) return
     hi = max(g0 / nca, lo)
     x = lo
     do it = 1, MAXIT
-      sx = s0 * exp(min(-rate * (k0 + x), MAXEXP))
+      ! the strength at x (at lo, the first time, from the test above)
+      if (it > 1) sx = s0 * exp(min(-rate * (k0 + x), MAXEXP))
       g = g0 - nca * x - sx
       if (abs(g) <= RTOL * sig) return
       if (g > 0) then
@@ -356,17 +365,18 @@ contains
     if (ok) x = [a(2, 2) * b(1) - a(1, 2) * b(2), a(1, 1) * b(2) - a(2, 1) * b(1)] / det
   end subroutine solve2
 
-  ! dr/dj = C - C M A^-1 N^T C for the set (one or two surfaces) at internal variables k.
-  pure subroutine consistent_tangent(law, set, k, t, ok)
+  ! dr/dj = C - C M A^-1 N^T C for the set (one or two surfaces) at internal variables k,
+  ! given by their strengths s = strength(law, k) (s' = -rate s).
+  pure subroutine consistent_tangent(law, set, s, t, ok)
     type(law_t), intent(in) :: law
     integer, intent(in) :: set(:)
-    real(c_double), intent(in) :: k(2)
+    real(c_double), intent(in) :: s(2)
     real(c_double), intent(out) :: t(2, 2)
     logical, intent(out) :: ok
     real(c_double) :: a(2, 2), ainv(2, 2), nc(2, 2), ds(2), det
     integer :: i, j, m
     m = size(set)
-    ds = dstrength(law, k)
+    ds = -law%rate * s
     t(1, 1) = law%kt
     t(2, 1) = ZERO
     t(1, 2) = ZERO
@@ -420,6 +430,7 @@ contains
     cand%dl(a) = x
     cand%k = advance(kin, cand%dl)
     s = strength(law, cand%k)
+    cand%s = s
     ! the stress placed on the surface itself, to round-off
     if (a == 1) then
       cand%r = [rtr(1), s(1)]
@@ -427,7 +438,7 @@ contains
       rn = rtr(2) - law%cm(2, a) * x
       cand%r = [law%mv(1, a) * (s(2) - rn * law%tphi), rn]
     end if
-    call consistent_tangent(law, [a], cand%k, cand%t, ok)
+    call consistent_tangent(law, [a], cand%s, cand%t, ok)
     cand%failed = .not. ok
     call judge(law, sig, [a], cand)
   end function single_return
@@ -445,11 +456,22 @@ contains
     real(c_double), intent(in) :: rtr(2), kin(2), x(2)
     integer, intent(in) :: set(2)
     real(c_double) :: res(2)
+    real(c_double) :: s(2)
+    call pair_residual_at(law, rtr, kin, set, x, res, s)
+  end function pair_residual
+
+  ! The same, and the strengths at the point (for their derivative -rate s).
+  pure subroutine pair_residual_at(law, rtr, kin, set, x, res, s)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), kin(2), x(2)
+    integer, intent(in) :: set(2)
+    real(c_double), intent(out) :: res(2), s(2)
     real(c_double) :: dl(3), f(3)
     dl = unpack_pair(set, x)
-    f = surfaces(law, rtr - matmul(law%cm, dl), advance(kin, dl))
+    s = strength(law, advance(kin, dl))
+    f = surfaces_at(law, rtr - matmul(law%cm, dl), s)
     res = f(set)
-  end function pair_residual
+  end subroutine pair_residual_at
 
   ! dependent: the pair's gradients or flows are dependent, the set is skipped
   pure subroutine pair_return(law, rtr, kin, sig, set, cand, dependent)
@@ -494,12 +516,12 @@ contains
     else if (any(law%rate(KVAR(set)) > 0)) then
       converged = .false.
       do it = 1, MAXIT
-        res = pair_residual(law, rtr, kin, set, x)
+        call pair_residual_at(law, rtr, kin, set, x, res, s)
         if (maxval(abs(res)) <= RTOL * sig) then
           converged = .true.
           exit
         end if
-        ds = dstrength(law, advance(kin, unpack_pair(set, x)))
+        ds = -law%rate * s
         a = a0
         do j = 1, 2
           do i = 1, 2
@@ -530,13 +552,14 @@ contains
     cand%dl = unpack_pair(set, x)
     cand%k = advance(kin, cand%dl)
     s = strength(law, cand%k)
+    cand%s = s
     ! the stress at the intersection of the two surfaces, to round-off
     if (set(1) == 1) then
       cand%r = [law%mv(1, set(2)) * (s(2) - s(1) * law%tphi), s(1)]
     else
       cand%r = [ZERO, s(2) / law%tphi]
     end if
-    call consistent_tangent(law, set, cand%k, cand%t, ok)
+    call consistent_tangent(law, set, cand%s, cand%t, ok)
     cand%failed = .not. ok
     call judge(law, sig, set, cand)
   end subroutine pair_return
@@ -554,7 +577,8 @@ contains
     cand%r = [ZERO, s(2) / law%tphi]
     cand%dl(1) = (rtr(2) - cand%r(2)) / law%kn
     cand%k = advance(kin, cand%dl)
-    ds = dstrength(law, cand%k)
+    cand%s = strength(law, cand%k)
+    ds = -law%rate * cand%s
     cand%t = ZERO
     if (abs(slip) > 0) cand%t(2, 1) = sign(ONE, slip) * ds(2) / law%tphi
     call judge(law, sig, [1, 2, 3], cand)
@@ -575,7 +599,11 @@ contains
     ! multipliers within round-off of zero count as zero: k never decreases
     state_new(3:4) = advance(kin, max(cand%dl, ZERO))
     state_new(1:2) = jump - [r(1) / law%kt, r(2) / law%kn]
-    f = surfaces(law, r, state_new(3:4))
+    if (all(cand%dl >= ZERO)) then
+      f = surfaces_at(law, r, cand%s) ! state_new(3:4) is cand%k
+    else
+      f = surfaces(law, r, state_new(3:4))
+    end if
     m = 0
     if (f(1) >= -ATOL * sig) m = 1
     if (max(f(2), f(3)) >= -ATOL * sig) m = m + 2
@@ -598,7 +626,7 @@ contains
     kin = state(3:4)
     s = strength(law, kin)
     sig = max(abs(rtr(1)), abs(rtr(2)) * max(ONE, law%tphi), s(1), s(2))
-    ftr = surfaces(law, rtr, kin)
+    ftr = surfaces_at(law, rtr, s)
     status = BW_LAW_OK
     if (all(ftr <= RTOL * sig)) then
       r = rtr
@@ -899,9 +927,10 @@ contains
     cand%k3 = k3
     cand%dl = dl
     cand%k = advance(kin(1:2), cand%dl)
+    cand%s = strength(law, cand%k)
     call cap_tangent(law, set, r, m, cand%k, k3, cand%t, ok)
     cand%failed = .not. ok
-    f = surfaces(law, r, cand%k)
+    f = surfaces_at(law, r, cand%s)
     cand%valid = all(dl * min(law%kt, law%kn) >= -ATOL * sig) .and. all(f <= ATOL * sig)
   end function cap_return
 
