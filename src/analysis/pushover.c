@@ -38,7 +38,7 @@
  * Measured on examples/j4d_cap.yaml, j6d.yaml and j7d.yaml with 500, 600
  * or 800, and 700 or 900 steps, OpenBLAS and the reference BLAS, on an
  * Intel Xeon (2026-11-26): with 4, 15 of the 18 runs reached their target
- * (12 without the hold) and J4D with the cap took 5 to 12 % fewer Newton
+ * (12 without the hold) and J4D with the cap took 0 to 12 % fewer Newton
  * iterations; which runs stop depends on round-off (bench/results.md). */
 #define BW_PUSHOVER_HOLD 4
 
