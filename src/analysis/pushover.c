@@ -365,6 +365,20 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
         }
       }
       if (po->control == BW_CONTROL_DISSIPATION && step >= po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target", po->steps));
+      if (by_energy) {
+        /* Past the peak the pattern's load can fall to zero and below:
+         * where the softened joints no longer carry the constant loads
+         * (a joint in tension under a held pull), or where a snap-back
+         * unloads the whole wall and the dissipating zone goes on under
+         * a reversed pattern (examples/j7d.yaml with two Newton variants
+         * not kept, to lambda = -0.7 of the peak). Energy control would
+         * follow either, equilibrium paths that are no pushover: the
+         * step where lambda changes sign against its peak is the last. */
+        PetscReal peak = 0;
+        for (PetscInt i = 0; i < h->n; i++)
+          if (PetscAbsReal(h->lambda[i]) > PetscAbsReal(peak)) peak = h->lambda[i];
+        if (peak != 0 && lambda * peak <= 0) PetscCall(PetscSNPrintf(stop, len, "the load factor fell to zero past its peak (%.6g) at monitor = %.6g: no strength left in the pattern's direction (beyond, the pattern would have to act the other way)", (double)peak, (double)mon));
+      }
     } else if (by_energy) {
       PetscBool elastic;
       PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));

@@ -21,6 +21,16 @@ definitions (interface.md, "Additions of 2026-11-23 (past the peak)").
                  control: displacement stops at the snap-back with its
                  stop_reason. The capacity attributes against capacity()
                  below: elastic-brittle, ductility 1.
+  exhausted R    the same stack with a constant upward pull P0 = ft A_w / 2 on
+                 the top block (top-level `loads`): the pattern's peak is
+                 lambda = ft A_w - P0 and past it lambda = sigma A_w - P0, on
+                 the closed form above with sigma = (lambda + P0)/A_w, falls
+                 to zero where sigma = ft/2: the softened joint no longer
+                 carries the pull, and energy control would go on with the
+                 pattern pulling down. The run must end at the step where
+                 lambda changes sign, with its stop_reason, every step on
+                 the closed form (1e-6 of u_peak), the last lambda within
+                 one step's fall below zero.
   capacity       the definitions on curves with a known answer: a
                  hardening-softening history (yield, 0.8 F_max fall,
                  snap-back drop) through blockwall's own output of a J4D
@@ -97,7 +107,7 @@ def check_capacity(solver, hist, sign, tol, what):
     return want
 
 
-def stack_scene(tmp, control, energy, target=3.0e-4, steps=1000):
+def stack_scene(tmp, control, energy, target=3.0e-4, steps=1000, pull=0.0):
     g = bw.Geometry(depth=S)
     g.add_block(bw.rectangle(0, -0.1, B, 0.0), sets=["base"])
     for k in range(N):
@@ -110,6 +120,7 @@ def stack_scene(tmp, control, energy, target=3.0e-4, steps=1000):
 joints: {{law: dry, kn: {KN}, kt: 36.0e9, thickness: {E}, strength: {{tension: {FT}, cohesion: 1.0e7, friction: 0.75, tension_energy: {GF}}}}}
 discretization: {{m: 2}}
 supports: {{base: {{u1: 0, u2: 0, w: 0}}, column: {{u1: 0, w: 0}}}}
+{f"loads: {{top: [0, {pull!r}, 0]}}" if pull else ""}
 analysis:
   type: pushover
   pushover: {{loads: {{top: [0, 1, 0]}}, control: {control}, monitor: {{set: top, dof: u2}}, target: {target}, steps: {steps}{extra}}}
@@ -174,6 +185,32 @@ def snapback(ranks):
         print(f"displacement control: stops at monitor {hist['monitor'][-1]:.4e} ({solver['stop_reason'][:60]}...)")
 
 
+def exhausted(ranks):
+    p0 = 0.5 * FT * AW
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = stack_scene(tmp, "dissipation", GF * AW / 120, pull=p0)
+        out = os.path.join(tmp, "out.h5")
+        run(scene, ["-output_file", out], ranks)
+        hist, solver = read_run(out)
+        lam, u = hist["load_factor"], hist["monitor"]
+        k = int(np.argmax(lam))
+        expect(abs(lam[k] - (FT * AW - p0)) <= 0.01 * FT * AW, f"peak lambda {lam[k]:.6e}, ft A_w - P0 = {FT * AW - p0:.6e}")
+        post = np.arange(k + 1, len(lam))
+        expect(len(post) >= 20, f"only {len(post)} steps past the peak")
+        sig = (lam + p0) / AW
+        upk = sig[k] * (1 + (N - 1) * AW / A) / KN
+        ucf = sig[post] * (1 + (N - 1) * AW / A) / KN + GF / FT * np.log(FT / sig[post])
+        eu = np.max(np.abs(u[post] - ucf)) / upk
+        expect(eu <= 1e-6, f"a post-peak step off the closed form by {eu:.2e} of u_peak")
+        expect("fell to zero" in solver["stop_reason"], f"the run did not end where lambda changes sign: {solver['stop_reason']}")
+        expect(lam[-1] <= 0 < lam[-2], f"the last two lambdas {lam[-2]:.6e}, {lam[-1]:.6e}: not the step where it changes sign")
+        fall = np.max(-np.diff(lam[post]))
+        expect(-lam[-1] <= fall, f"the last lambda {lam[-1]:.6e} is more than one step's fall ({fall:.3e}) below zero")
+        expect(abs(float(solver["residual_load_factor"]) - lam[-1]) <= 1e-12 * lam[k], "residual_load_factor is not the last lambda")
+        print(f"{ranks} rank(s): peak {lam[k]:.6e} (ft A_w - P0 = {FT * AW - p0:.6e}), {len(post)} steps past it on the closed form "
+              f"to {eu:.1e} u_peak, last lambda {lam[-1]:.3e} ({-lam[-1] / lam[k]:.2e} of the peak below zero); {solver['stop_reason'][:60]}...")
+
+
 def capacity_case():
     """J4D (examples/j4d.yaml) as shipped, shortened: a hardening curve;
     blockwall's attributes against the definitions."""
@@ -190,6 +227,8 @@ if __name__ == "__main__":
     try:
         if sys.argv[1] == "snapback":
             snapback(int(sys.argv[2]))
+        elif sys.argv[1] == "exhausted":
+            exhausted(int(sys.argv[2]))
         else:
             capacity_case()
     except Failure as e:

@@ -21,9 +21,11 @@ foreach(np 1 2)
 endforeach()
 
 # Past the peak (issue 20): dissipation control on a snap-back against its
-# closed form, the capacity figures against their definitions.
+# closed form, and where the pattern's load falls to zero under a held pull;
+# the capacity figures against their definitions.
 foreach(np 1 2)
   bw_py_test(nonlinear.snapback_${np} "nonlinear;mpi" nonlinear/check_past_peak.py snapback ${np})
+  bw_py_test(nonlinear.exhausted_${np} "nonlinear;mpi" nonlinear/check_past_peak.py exhausted ${np})
 endforeach()
 bw_py_test(nonlinear.capacity nonlinear nonlinear/check_past_peak.py capacity)
 
