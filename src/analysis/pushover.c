@@ -365,20 +365,6 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
         }
       }
       if (po->control == BW_CONTROL_DISSIPATION && step >= po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target", po->steps));
-      if (by_energy) {
-        /* Past the peak the pattern's load can fall to zero and below:
-         * where the softened joints no longer carry the constant loads
-         * (a joint in tension under a held pull), or where a snap-back
-         * unloads the whole wall and the dissipating zone goes on under
-         * a reversed pattern (examples/j7d.yaml with two Newton variants
-         * not kept, to lambda = -0.7 of the peak). Energy control would
-         * follow either, equilibrium paths that are no pushover: the
-         * step where lambda changes sign against its peak is the last. */
-        PetscReal peak = 0;
-        for (PetscInt i = 0; i < h->n; i++)
-          if (PetscAbsReal(h->lambda[i]) > PetscAbsReal(peak)) peak = h->lambda[i];
-        if (peak != 0 && lambda * peak <= 0) PetscCall(PetscSNPrintf(stop, len, "the load factor fell to zero past its peak (%.6g) at monitor = %.6g: no strength left in the pattern's direction (beyond, the pattern would have to act the other way)", (double)peak, (double)mon));
-      }
     } else if (by_energy) {
       PetscBool elastic;
       PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
@@ -460,7 +446,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   BwHistory      h = {0, 0, NULL, NULL, NULL, NULL, NULL};
   char          *text, stop[1024] = "";
   PetscReal      lambda = 0, peak = -PETSC_MAX_REAL, peak_mon = 0, *load;
-  PetscInt       npeak = 0, nsteps_planned, count[4], crushed = 0, its, solves;
+  PetscInt       npeak = 0, nsteps_planned, count[4], crushed = 0, its, solves, reversal = -1;
   PetscErrorCode ierr;
   BwResults      res  = {NULL, NULL, NULL, NULL, NULL, NULL};
   BwOutputData   data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
@@ -495,6 +481,22 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
       peak_mon = h.monitor[s];
       npeak    = s;
     }
+  {
+    /* Past its peak the pattern's load can fall through zero: where the
+     * softened joints no longer carry the constant loads (a joint under a
+     * held pull), or where a snap-back unloads the wall and the
+     * dissipating zone goes on under a reversed pattern (examples/j7d.yaml
+     * with two Newton variants not kept, to lambda = -0.7 of the peak).
+     * The run goes on as interface.md fixes it (to the target or the most
+     * steps), an equilibrium path but no pushover any more: the first step
+     * where lambda has changed sign against its largest magnitude is
+     * reported (load_reversal_step, -1 if none) and the summary says so. */
+    PetscInt big = 0;
+    for (PetscInt s = 1; s < h.n; s++)
+      if (PetscAbsReal(h.lambda[s]) > PetscAbsReal(h.lambda[big])) big = s;
+    for (PetscInt s = big + 1; s < h.n && reversal < 0; s++)
+      if (h.lambda[big] != 0 && h.lambda[s] * h.lambda[big] <= 0) reversal = s;
+  }
 
   /* the final state: results, self-check, the file */
   PetscCall(BwLogBegin(p->log, BW_PHASE_RECOVER));
@@ -523,6 +525,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(BwReportReal(report, "peak_load_factor", peak));
   PetscCall(BwReportReal(report, "peak_monitor", peak_mon));
   PetscCall(BwReportString(report, "stop_reason", stop));
+  PetscCall(BwReportInt(report, "load_reversal_step", reversal));
   PetscCall(BwCapacityCompute(h.n, h.lambda, h.monitor, h.dissipation, po->target - h.monitor[0] >= 0 ? 1.0 : -1.0, &cap));
   PetscCall(BwReportReal(report, "first_peak_load_factor", cap.first_peak_load_factor));
   PetscCall(BwReportReal(report, "first_peak_monitor", cap.first_peak_monitor));
@@ -564,6 +567,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(PetscPrintf(p->comm, "  steps %" PetscInt_FMT " (%" PetscInt_FMT " Newton iterations, %" PetscInt_FMT " linear solves); stop: %s\n", h.n, its, solves, stop));
   PetscCall(PetscPrintf(p->comm, "  peak load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); last: load factor %.6g, monitor %.6g\n", (double)peak, npeak, (double)peak_mon, (double)h.lambda[h.n - 1], (double)h.monitor[h.n - 1]));
   PetscCall(PetscPrintf(p->comm, "  first peak: load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); residual load factor %.6g (%.3g of the peak); dissipated %.6g J\n", (double)cap.first_peak_load_factor, cap.first_peak, (double)cap.first_peak_monitor, (double)cap.residual_load_factor, (double)(cap.residual_load_factor / peak), (double)cap.dissipated_energy));
+  if (reversal >= 0) PetscCall(PetscPrintf(p->comm, "  warning: the load factor changed sign at step %" PetscInt_FMT " (monitor %.6g), past its peak: from there the pattern acts the other way (the softened joints no longer carry the constant loads, or a snap-back unloaded the wall), no pushover any more; /solver load_reversal_step\n", reversal, (double)h.monitor[reversal]));
   if (cap.note[0]) PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): %s; ultimate displacement %.6g\n", cap.note, (double)cap.ultimate_displacement));
   else PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): stiffness %.6g, yield load factor %.6g at %.6g, ultimate displacement %.6g, ductility %.3g\n", (double)cap.stiffness, (double)cap.yield_force, (double)cap.yield_displacement, (double)cap.ultimate_displacement, (double)cap.ductility));
   PetscCall(PetscPrintf(p->comm, "  joints at the end: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic", count[1], count[2], count[3], count[0]));
