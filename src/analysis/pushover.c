@@ -446,7 +446,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   BwHistory      h = {0, 0, NULL, NULL, NULL, NULL, NULL};
   char          *text, stop[1024] = "";
   PetscReal      lambda = 0, peak = -PETSC_MAX_REAL, peak_mon = 0, *load;
-  PetscInt       npeak = 0, nsteps_planned, count[4], crushed = 0, its, solves, reversal = -1;
+  PetscInt       npeak = 0, nsteps_planned, count[4], crushed = 0, its, solves, reversal = -1, big = 0; /* big: the step of the largest |lambda| */
   PetscErrorCode ierr;
   BwResults      res  = {NULL, NULL, NULL, NULL, NULL, NULL};
   BwOutputData   data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
@@ -475,13 +475,15 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
     PetscCall(ierr);
   }
   PetscCall(BwProblemCheckOptions(p));
-  for (PetscInt s = 0; s < h.n; s++)
+  for (PetscInt s = 0; s < h.n; s++) {
     if (h.lambda[s] > peak) {
       peak     = h.lambda[s];
       peak_mon = h.monitor[s];
       npeak    = s;
     }
-  {
+    if (PetscAbsReal(h.lambda[s]) > PetscAbsReal(h.lambda[big])) big = s;
+  }
+  if (h.lambda[big] != 0) {
     /* Past its peak the pattern's load can fall through zero: where the
      * softened joints no longer carry the constant loads (a joint under a
      * held pull), or where a snap-back unloads the wall and the
@@ -491,11 +493,8 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
      * steps), an equilibrium path but no pushover any more: the first step
      * where lambda has changed sign against its largest magnitude is
      * reported (load_reversal_step, -1 if none) and the summary says so. */
-    PetscInt big = 0;
-    for (PetscInt s = 1; s < h.n; s++)
-      if (PetscAbsReal(h.lambda[s]) > PetscAbsReal(h.lambda[big])) big = s;
     for (PetscInt s = big + 1; s < h.n && reversal < 0; s++)
-      if (h.lambda[big] != 0 && h.lambda[s] * h.lambda[big] <= 0) reversal = s;
+      if (h.lambda[s] * h.lambda[big] <= 0) reversal = s;
   }
 
   /* the final state: results, self-check, the file */
