@@ -20,7 +20,7 @@
  * step. */
 #pragma once
 #include "analysis/analysis.h"
-#include "law/field.h"
+#include "analysis/joint_field.h"
 
 typedef struct _n_BwNewton *BwNewton;
 

@@ -4,14 +4,8 @@
 #include "system/mixed.h"
 #include "util/log.h"
 #include "system/portions.h"
+#include "util/csr_mat.h"
 
-/* A CSR matrix's values as PETSc holds them: row starts and values of the
- * diagonal part (all of it on one rank) and of the off-diagonal part (NULL
- * on one rank); a row's columns, sorted, fall into them in order. */
-typedef struct {
-  PetscInt  *di, *oi;
-  PetscReal *dv, *ov;
-} BwCSRValues;
 
 /* Sizes per dimension (model.md, "Three dimensions"): dofs per block, and
  * as many components of dG; stress components per portion. */
@@ -106,5 +100,3 @@ PetscErrorCode BwMixedRefillS(BwMixed mx);
  * |b_r - (K x)_r|^2, |T D^ q~ - b_r|^2, then the q rows' |b_q - (K x)_q|^2,
  * |b_q|^2, then |b_r|^2, |r~|^2. */
 PetscErrorCode BwMixedResidualSums(BwMixed mx, Vec x, Vec b, PetscReal loc[6]);
-/* The matrix from local CSR rows (global columns, sorted), used in place. */
-PetscErrorCode BwMatFromCSR(BwMixed mx, PetscInt m, PetscInt n, PetscInt M, PetscInt N, const char prefix[], PetscInt *ia, PetscInt *ja, PetscReal *va, Mat *A, BwCSRValues *vals);

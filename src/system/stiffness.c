@@ -347,7 +347,7 @@ PetscErrorCode BwMixedAssembleS(BwMixed mx)
     PetscCall(PetscRealloc(sizeof(PetscReal) * (ia[mx->nq_local] + 1), &va));
   }
   /* the matrix PETSc uses in place (its values, for a refill) */
-  PetscCall(BwMatFromCSR(mx, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "schur_", ia, ja, va, &mx->S, &mx->svals));
+  PetscCall(BwMatFromCSR(mx->comm, mx->nq_local, mx->nq_local, mx->nq_global, mx->nq_global, "schur_", ia, ja, va, &mx->S, &mx->svals));
   PetscCall(MatSetBlockSize(mx->S, nd));
   PetscCall(MatSetOption(mx->S, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(MatSetOption(mx->S, MAT_SPD, PETSC_TRUE));

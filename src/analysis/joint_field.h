@@ -7,7 +7,14 @@
  * The state of the last converged step is `committed`; an evaluation at a
  * trial solution (BwJointFieldLaw, the callback of BwMixedResidual) starts
  * from it and writes the trial state, so a failed step or a rejected line
- * search costs nothing to undo; BwJointFieldCommit accepts the trial. */
+ * search costs nothing to undo; BwJointFieldCommit accepts the trial.
+ *
+ * It lives with the analyses that carry it, above src/system and
+ * src/model, because it is built on both: the owned interfaces and their
+ * portions come from the mixed layout (BwMixed), each interface's law and
+ * stiffness from the model (BwModelInterfaceLaw, model->kn, kt). src/law
+ * below holds only the pointwise laws (registry and kernels), which the
+ * model uses. */
 #pragma once
 #include "system/mixed.h"
 #include "law/law.h"

@@ -1,9 +1,9 @@
-/* BwJointField: see field.h. Storage per owned portion, with ns stress
+/* BwJointField: see joint_field.h. Storage per owned portion, with ns stress
  * components (2 in 2D, 3 in 3D): the committed and the trial state (ns + 2
  * each), the tangent (ns x ns, committed and last), the plastic jump for
  * output (ns), the modes (1 byte each). Owned interface e's portions start
  * at poff[e]: m each in 2D, as many as its polygon has in 3D. */
-#include "law/field.h"
+#include "analysis/joint_field.h"
 #include "util/compat.h"
 
 struct _n_BwJointField {
