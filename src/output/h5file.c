@@ -7,16 +7,46 @@
 #include <unistd.h>
 #include "output/h5file.h"
 #include "util/compat.h"
+#include "util/signals.h"
+
+/* How long a step that needs every rank may take before the rank gives up
+ * (BwDeadlineArm): a base, and the time to move a dataset at 20 MB/s. */
+#define BW_H5_STEP_SECONDS 60.0
+#define BW_H5_STEP_RATE    2e7
 
 struct _n_BwH5File {
   MPI_Comm comm;
   hid_t    file, dxpl;
   PetscBool serial; /* one rank: the POSIX driver */
   char     path[PETSC_MAX_PATH_LEN];
+  char     display[PETSC_MAX_PATH_LEN]; /* the file as the user named it, for messages */
   int      failed; /* agreed by every rank */
   int      errnum; /* the system's reason, if any rank saw one */
   char     what[128];
+  int      seen;          /* this rank saw a step fail (before any agreement) */
+  char     seen_what[160]; /* ... which, and why */
+  double   budget;        /* seconds the current collective step may take */
 };
+
+/* Every wait for the other ranks has a deadline: armed before each
+ * collective call (BwH5Step, with the bytes it moves) and before the
+ * agreement that follows it, disarmed when the agreement returns. Should
+ * the wait never end (another rank left a collective call on an error),
+ * the process ends with the error this rank knows of. */
+static void BwH5Arm(BwH5File f)
+{
+  char msg[PETSC_MAX_PATH_LEN + 512];
+
+  if (f->seen) snprintf(msg, sizeof(msg), "output.file: writing '%s' failed (%s); nothing was written", f->display, f->seen_what);
+  else snprintf(msg, sizeof(msg), "output.file: writing '%s' failed (a collective HDF5 call made no progress for %.0f s); nothing was written", f->display, f->budget);
+  BwDeadlineArm(f->budget, msg);
+}
+
+static void BwH5Step(BwH5File f, double bytes)
+{
+  f->budget = BW_H5_STEP_SECONDS + bytes / BW_H5_STEP_RATE;
+  BwH5Arm(f);
+}
 
 /* The outcome of the last step on every rank: one failure fails all. */
 static PetscErrorCode BwH5Agree(BwH5File f, int bad, int errnum, const char what[])
@@ -24,7 +54,14 @@ static PetscErrorCode BwH5Agree(BwH5File f, int bad, int errnum, const char what
   int loc[2] = {bad ? 1 : 0, bad ? errnum : 0}, glob[2];
 
   PetscFunctionBeginUser;
+  if (bad && !f->seen) {
+    /* should the agreement never come, this is what the line says */
+    f->seen = 1;
+    snprintf(f->seen_what, sizeof(f->seen_what), "%s%s%s", what, errnum ? ": " : "", errnum ? strerror(errnum) : "");
+  }
+  BwH5Arm(f);
   PetscCallMPI(MPI_Allreduce(loc, glob, 2, MPI_INT, MPI_MAX, f->comm));
+  BwDeadlineDisarm();
   if (glob[0] && !f->failed) {
     f->failed = 1;
     f->errnum = glob[1];
@@ -43,7 +80,7 @@ static PetscErrorCode BwH5Agree(BwH5File f, int bad, int errnum, const char what
     if ((var) < 0) err = errno ? errno : err; \
   } while (0)
 
-PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], BwH5File *fp)
+PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], const char display[], BwH5File *fp)
 {
   BwH5File f;
   hid_t    fapl;
@@ -56,6 +93,8 @@ PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], BwH5File *fp)
   f->comm = comm;
   f->file = f->dxpl = -1;
   PetscCall(PetscStrncpy(f->path, path, sizeof(f->path)));
+  PetscCall(PetscStrncpy(f->display, display, sizeof(f->display)));
+  f->budget = BW_H5_STEP_SECONDS;
   BwH5Try(f, fapl, H5Pcreate(H5P_FILE_ACCESS));
   if (fapl >= 0) {
     PetscMPIInt size;
@@ -72,21 +111,22 @@ PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], BwH5File *fp)
     if (rc >= 0) BwH5Try(f, rc, H5Pset_fclose_degree(fapl, H5F_CLOSE_STRONG));
   }
   PetscCall(BwH5Agree(f, fapl < 0 || rc < 0, err, "setting up the file access"));
+  BwH5Step(f, 0);
   BwH5Try(f, f->file, H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl));
   H5Pclose(fapl);
   PetscCall(BwH5Agree(f, f->file < 0, err, "creating it"));
   BwH5Try(f, f->dxpl, H5Pcreate(H5P_DATASET_XFER));
-  if (f->dxpl >= 0 && !f->serial) BwH5Try(f, rc, H5Pset_dxpl_mpio(f->dxpl, H5FD_MPIO_COLLECTIVE));
-  /* Collective at HDF5's level, but each rank writes its own rows with
-   * independent MPI-IO calls: in MPI-IO's two-phase collective write, a
-   * rank whose write failed (a full disk seen by one aggregator) left
-   * HDF5's H5Dwrite early while the other went on into the file view's
-   * reset, a collective call: the two ranks waited in different
-   * collectives for ever (errors.io.diskfull_2, 1 run in 25 with the CPUs
-   * busy). Each rank's failure is now its own, and the agreement after
-   * the write tells every rank. */
-  if (f->dxpl >= 0 && !f->serial && rc >= 0) BwH5Try(f, rc, H5Pset_dxpl_mpio_collective_opt(f->dxpl, H5FD_MPIO_INDIVIDUAL_IO));
-  PetscCall(BwH5Agree(f, f->dxpl < 0 || rc < 0, err, "setting up collective transfers"));
+  /* Independent transfers: each rank writes its own rows with its own
+   * MPI-IO calls, and the agreement after the write tells every rank how
+   * it went. A collective transfer (even with H5FD_MPIO_INDIVIDUAL_IO)
+   * sets and resets MPI-IO's file view around the write, and ROMIO's
+   * MPI_File_set_view is collective: a rank whose write failed (a full
+   * disk) left H5Dwrite before the reset while the other waited in it,
+   * and the two waited in different collectives for ever
+   * (errors.io.diskfull_2: 4 hangs in 150 runs with the CPUs busy, the
+   * backtraces in MPI_File_set_view and in this file's agreement). */
+  if (f->dxpl >= 0 && !f->serial) BwH5Try(f, rc, H5Pset_dxpl_mpio(f->dxpl, H5FD_MPIO_INDEPENDENT));
+  PetscCall(BwH5Agree(f, f->dxpl < 0 || rc < 0, err, "setting up the transfers"));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -97,8 +137,10 @@ PetscErrorCode BwH5FileGroup(BwH5File f, const char name[])
 
   PetscFunctionBeginUser;
   PetscCheck(!f->failed, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "an earlier step failed");
+  BwH5Step(f, 0);
   BwH5Try(f, g, H5Gcreate2(f->file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
   PetscCall(BwH5Agree(f, g < 0, err, name));
+  BwH5Step(f, 0);
   BwH5Try(f, g, H5Gclose(g));
   PetscCall(BwH5Agree(f, g < 0, err, name));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -148,10 +190,17 @@ static PetscErrorCode BwH5FileWriteRows(BwH5File f, const char name[], hid_t typ
   if (mspace >= 0 && !count) BwH5Try(f, rc, H5Sselect_none(mspace));
   if (BwH5Agree(f, fspace < 0 || mspace < 0 || rc < 0, err, name)) goto done;
   /* collective */
+  BwH5Step(f, 0);
   BwH5Try(f, dset, H5Dcreate2(f->file, name, type, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
   if (BwH5Agree(f, dset < 0, err, name)) goto done;
+  {
+    double bytes = (double)H5Tget_size(type);
+    for (int d = 0; d < rank; d++) bytes *= (double)dims[d];
+    BwH5Step(f, bytes);
+  }
   BwH5Try(f, rc, H5Dwrite(dset, type, mspace, fspace, f->dxpl, data));
   if (BwH5Agree(f, rc < 0, err, name)) goto done;
+  BwH5Step(f, 0);
   BwH5Try(f, rc, H5Dclose(dset));
   dset = -1;
   (void)BwH5Agree(f, rc < 0, err, name);
@@ -191,15 +240,20 @@ static PetscErrorCode BwH5FileAttr(BwH5File f, const char obj[], const char name
   PetscCheck(!f->failed, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "an earlier step failed");
   BwH5Try(f, sp, H5Screate(H5S_SCALAR));
   if (BwH5Agree(f, sp < 0, err, name)) goto done;
+  BwH5Step(f, 0);
   BwH5Try(f, o, H5Oopen(f->file, obj, H5P_DEFAULT));
   if (BwH5Agree(f, o < 0, err, name)) goto done;
+  BwH5Step(f, 0);
   BwH5Try(f, a, H5Acreate2(o, name, ftype, sp, H5P_DEFAULT, H5P_DEFAULT));
   if (BwH5Agree(f, a < 0, err, name)) goto done;
+  BwH5Step(f, 0);
   BwH5Try(f, rc, H5Awrite(a, mtype, v));
   if (BwH5Agree(f, rc < 0, err, name)) goto done;
+  BwH5Step(f, 0);
   BwH5Try(f, rc, H5Aclose(a));
   a = -1;
   if (BwH5Agree(f, rc < 0, err, name)) goto done;
+  BwH5Step(f, 0);
   BwH5Try(f, rc, H5Oclose(o));
   o = -1;
   (void)BwH5Agree(f, rc < 0, err, name);
@@ -260,10 +314,19 @@ PetscErrorCode BwH5FileClose(BwH5File *fp)
     PetscCallMPI(MPI_Comm_rank(f->comm, &rank));
     if (!rank && truncate(f->path, 0)) { /* nothing more can be freed */
     }
+    BwH5Step(f, 0);
     PetscCallMPI(MPI_Barrier(f->comm));
+    BwDeadlineDisarm();
   }
   /* every rank is here, after the same steps: the close is collective */
+  BwH5Step(f, 0);
   if (f->file >= 0) BwH5Try(f, rc, H5Fclose(f->file));
+  /* A close that failed (the metadata did not fit on a full disk, even
+   * with the data truncated away) leaves the file open in HDF5, which
+   * closes it again when MPI_Finalize ends the library, and crashes
+   * there (HDF5 1.10: a segfault in H5F__close_cb). Such a run ends
+   * without MPI_Finalize (main.c). */
+  if (rc < 0 && H5Iis_valid(f->file) > 0) BwSkipFinalize();
   f->file = -1;
   (void)BwH5Agree(f, rc < 0, err, "closing it");
   if (f->failed) PetscCall(PetscSNPrintf(msg, sizeof(msg), "%s%s%s", f->what, f->errnum ? ": " : "", f->errnum ? strerror(f->errnum) : ""));

@@ -8,15 +8,22 @@
  * left open at exit is closed by HDF5 after MPI_Finalize: a crash on 1.
  * So every step is followed by an agreement (one MPI_Allreduce of a flag
  * and an errno): after a failure anywhere, every rank skips the remaining
- * steps, returns the same error, and the file is closed collectively. */
+ * steps, returns the same error, and the file is closed collectively.
+ * Data are written with independent MPI-IO calls (no collective call in
+ * H5Dwrite); HDF5's own collective calls (create, close, metadata) have a
+ * deadline. */
 #pragma once
 #include <hdf5.h>
 #include <petscsys.h>
 
 typedef struct _n_BwH5File *BwH5File;
 
-/* Creates (truncates) path, collectively. */
-PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], BwH5File *f);
+/* Creates (truncates) path, collectively; display names the file in
+ * messages (the target of a temporary file). Every collective step has a
+ * deadline (BwDeadlineArm) until the file is closed: a rank that waits in a
+ * collective call that another rank has left ends the run with the error
+ * instead of waiting for ever. */
+PetscErrorCode BwH5FileCreate(MPI_Comm comm, const char path[], const char display[], BwH5File *f);
 PetscErrorCode BwH5FileGroup(BwH5File f, const char name[]);
 /* Dataset `name` of shape dims[0..rank) and type `type`; this rank writes
  * its rows rows[0..nrows) (ascending, each dims[1]*dims[2] values) from

@@ -604,7 +604,7 @@ PetscErrorCode BwOutputOpen(BwOutput out, const char file[], BwMixed mixed, cons
     PetscCall(BwOutputFileFree(&of));
     SETERRQ(out->comm, PETSC_ERR_FILE_WRITE, "%s", msg);
   }
-  ierr = BwH5FileCreate(out->comm, of->tmp, &of->h);
+  ierr = BwH5FileCreate(out->comm, of->tmp, of->file, &of->h);
   if (ierr) {
     const char *text = BwErrorText(ierr);
     if (of->h) (void)BwH5FileClose(&of->h);

@@ -34,6 +34,11 @@ static const int             bw_signals[]  = {SIGTERM, SIGINT, SIGHUP, SIGCONT};
  * saw (a gap between its ticks); lock-free atomics are safe in a handler */
 static _Atomic long long bw_tick = 0, bw_resumed = -1000000000000LL;
 static _Atomic int       bw_finishing = 0;
+/* BwDeadlineArm: monotonic nanoseconds of the deadline (0: none), and the
+ * line; the message is written only while no deadline is armed */
+static _Atomic long long bw_deadline = 0;
+static char              bw_deadline_line[1024];
+static void              BwDeadlinePassed(void);
 
 static long long BwNow(void)
 {
@@ -47,8 +52,12 @@ static void *BwTicker(void *arg)
   struct timespec nap = {0, BW_TICK_NS};
   (void)arg;
   for (;;) {
-    long long now = BwNow(), last = bw_tick;
-    if (last && now - last > BW_STOPPED_NS) bw_resumed = now;
+    long long now = BwNow(), last = bw_tick, deadline = bw_deadline;
+    if (last && now - last > BW_STOPPED_NS) {
+      bw_resumed = now;
+      /* a stopped process makes no progress and is owed its time */
+      if (deadline) bw_deadline = deadline + (now - last);
+    } else if (deadline && now > deadline) BwDeadlinePassed();
     bw_tick = now;
     nanosleep(&nap, NULL);
   }
@@ -184,6 +193,29 @@ void BwTemporaryRemove(const char path[])
     if (!strcmp(bw_temporary[k], path)) bw_temporary[k][0] = 0;
   BwSignalsBlock(&old, PETSC_FALSE);
 }
+
+/* From the ticker thread: only async-signal-safe calls, as in a handler. */
+static void BwDeadlinePassed(void)
+{
+  for (int k = 0; k < bw_ntemporary && k < BW_MAX_TEMPORARY; k++)
+    if (bw_temporary[k][0]) (void)unlink(bw_temporary[k]);
+  if (bw_rank == 0 && write(STDERR_FILENO, bw_deadline_line, strlen(bw_deadline_line)) < 0) { /* nothing more to do */
+  }
+  _exit(1);
+}
+
+void BwDeadlineArm(double seconds, const char message[])
+{
+  bw_deadline = 0;
+  snprintf(bw_deadline_line, sizeof(bw_deadline_line), "blockwall: error: %s\n", message);
+  bw_deadline = BwNow() + (long long)((seconds + (bw_rank ? 10 : 0)) * 1e9);
+}
+
+void BwDeadlineDisarm(void) { bw_deadline = 0; }
+
+static PetscBool bw_skip_finalize = PETSC_FALSE;
+void             BwSkipFinalize(void) { bw_skip_finalize = PETSC_TRUE; }
+PetscBool        BwFinalizeSkipped(void) { return bw_skip_finalize; }
 
 int BwRenameAll(int n, const char *const from[], const char *const to[], int *failed)
 {

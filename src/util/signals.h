@@ -24,6 +24,22 @@ void BwSignalsFinishing(void);
 /* A temporary file a signal must remove / no longer remove. */
 PetscErrorCode BwTemporaryAdd(const char path[]);
 void           BwTemporaryRemove(const char path[]);
+/* A deadline on a step that needs every rank (a collective HDF5 call):
+ * if the step has not ended `seconds` from now, the process removes the
+ * temporary files, prints "blockwall: error: <message>" (rank 0; the other
+ * ranks wait 10 s longer and stay silent, so that the line comes once) and
+ * exits with 1, which makes mpiexec end the job. A rank that left a
+ * collective call early on an error (a full disk seen by one rank) would
+ * otherwise leave the others waiting in it for ever. Arming again moves the
+ * deadline and replaces the message; time spent stopped (SIGSTOP) does not
+ * count. */
+void BwDeadlineArm(double seconds, const char message[]);
+void BwDeadlineDisarm(void);
+/* A library was left in a state its own finalisation cannot survive (an
+ * HDF5 file whose close failed): the run ends with its exit code but
+ * without MPI_Finalize (main.c asks BwFinalizeSkipped). */
+void      BwSkipFinalize(void);
+PetscBool BwFinalizeSkipped(void);
 /* rename(from[k], to[k]) for k < n with the signals blocked; the first that
  * fails is reported (errno kept) and the later ones are not made. */
 int BwRenameAll(int n, const char *const from[], const char *const to[], int *failed);
