@@ -15,6 +15,7 @@ struct _n_BwNewton {
   /* displacement control */
   PetscInt     mon_row, mon_block, mon_dof;
   PetscReal    mon_scale;
+  PetscReal    mon_fixed; /* the monitor's value where its dof is prescribed (mon_row < 0) */
   /* the last solve */
   PetscInt     its, total_its, total_solves;
   PetscReal    residual;
@@ -101,14 +102,17 @@ PetscErrorCode BwNewtonSetTolerances(BwNewton nw, PetscReal rtol, PetscInt maxit
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwNewtonSetMonitor(BwNewton nw, PetscInt block, PetscInt dof, const char what[])
+PetscErrorCode BwNewtonSetMonitor(BwNewton nw, PetscInt block, PetscInt dof)
 {
   PetscInt  lo, hi, row;
   PetscReal scale = 0, s;
 
   PetscFunctionBeginUser;
   PetscCall(BwMixedDofRow(nw->mx, block, dof, &row, &scale));
-  PetscCheck(row >= 0, nw->p->comm, PETSC_ERR_USER_INPUT, "%s: dof %s of block %" PetscInt_FMT " is prescribed (supports); displacement control needs a free dof", what, dof == 0 ? "u1" : dof == 1 ? "u2" : "w", block);
+  /* a prescribed monitor (load control of an assembly whose every dof is
+   * prescribed) reads its prescribed value; displacement and dissipation
+   * control need a free one (checked where they start) */
+  nw->mon_fixed = nw->p->model->value[nw->p->model->nd * block + dof];
   PetscCall(VecGetOwnershipRange(nw->x, &lo, &hi));
   if (!(row >= lo && row < hi)) scale = 0;
   PetscCallMPI(MPI_Allreduce(&scale, &s, 1, MPIU_REAL, MPI_MAX, nw->p->comm));
@@ -158,7 +162,7 @@ static PetscErrorCode BwVecEntry(Vec v, PetscInt row, PetscReal *value)
 PetscErrorCode BwNewtonMonitorValue(BwNewton nw, PetscReal *value)
 {
   PetscFunctionBeginUser;
-  *value = 0;
+  *value = nw->mon_fixed;
   if (nw->mon_row < 0) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(BwVecEntry(nw->x, nw->mon_row, value));
   *value *= nw->mon_scale;

@@ -29,9 +29,11 @@ typedef struct _n_BwNewton *BwNewton;
 PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton);
 PetscErrorCode BwNewtonDestroy(BwNewton *newton);
 PetscErrorCode BwNewtonSetTolerances(BwNewton newton, PetscReal rtol, PetscInt maxit);
-/* Displacement control: dof `dof` of `block` follows the prescribed values
- * given to BwNewtonSolve; an error if that dof is prescribed. */
-PetscErrorCode BwNewtonSetMonitor(BwNewton newton, PetscInt block, PetscInt dof, const char what[]);
+/* The monitor dof `dof` of `block`: under displacement control it follows
+ * the values given to BwNewtonSolve, which needs it free; a prescribed one
+ * (load control of an assembly whose every dof is prescribed) reads its
+ * prescribed value. */
+PetscErrorCode BwNewtonSetMonitor(BwNewton newton, PetscInt block, PetscInt dof);
 /* The monitor's current physical value (collective). */
 PetscErrorCode BwNewtonMonitorValue(BwNewton newton, PetscReal *value);
 /* Solves for the state at (mu, lambda) under load control, or at (mu,

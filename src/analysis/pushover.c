@@ -132,9 +132,18 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
         po->monitor_block = i / nd;
         po->monitor_dof   = i % nd;
       }
+    /* every block dof prescribed: nothing moves, and the monitor reads the
+     * prescribed value of the pattern's largest component */
+    if (best < 0)
+      for (PetscInt i = 0; i < nd * g->nblocks; i++)
+        if (PetscAbsReal(po->pattern[i]) > best) {
+          best              = PetscAbsReal(po->pattern[i]);
+          po->monitor_block = i / nd;
+          po->monitor_dof   = i % nd;
+        }
     PetscCall(PetscSNPrintf(po->monitor_set, sizeof(po->monitor_set), "block %" PetscInt_FMT, po->monitor_block));
   }
-  if (p->model->prescribed[nd * po->monitor_block + po->monitor_dof])
+  if (has_monitor && p->model->prescribed[nd * po->monitor_block + po->monitor_dof])
     PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "dof %s of block %" PetscInt_FMT " (set %s) is prescribed by the supports; the monitor must be free", dofs[po->monitor_dof], po->monitor_block, po->monitor_set));
   /* the increments */
   po->target = 0;
@@ -461,7 +470,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(PetscPrintf(p->comm, "  pushover: %s control, target %g, %" PetscInt_FMT " steps, monitor %s of %s (block %" PetscInt_FMT ")\n", BwControls[po->control], (double)po->target, po->steps, BwModelDofNames(p->model)[po->monitor_dof], po->monitor_set, po->monitor_block));
   PetscCall(BwNewtonCreate(p, p->model->load, po->pattern, &nw));
   PetscCall(BwNewtonSetTolerances(nw, po->tolerance, po->max_iterations));
-  PetscCall(BwNewtonSetMonitor(nw, po->monitor_block, po->monitor_dof, "analysis.pushover.monitor"));
+  PetscCall(BwNewtonSetMonitor(nw, po->monitor_block, po->monitor_dof));
   nsteps_planned = po->every == 0 ? 1 : po->steps / po->every + 2;
   PetscCall(BwOutputOpen(p->output, p->output->file, p->mixed, text, nsteps_planned, &of));
   PetscCall(BwLogBegin(p->log, BW_PHASE_SOLVE));

@@ -212,6 +212,12 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
   PetscFunctionBeginUser;
   s->mx = mx;
   PetscCall(BwMixedGetOwnership(mx, &own));
+  /* Every block dof prescribed: the displacement field is given, the
+   * stresses follow from it (K is -I on them, with no q rows), and there
+   * is nothing to factor: a Schur complement of no rows handed to CHOLMOD
+   * printed its error on a good run. */
+  s->trivial = own.nq_global == 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (s->trivial) PetscFunctionReturn(PETSC_SUCCESS);
   {
     PetscInt q0, q1;
     Mat      S;
@@ -472,6 +478,17 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
   s->fallback_reason[0] = 0;
   s->warning[0]         = 0;
   s->accuracy_met       = PETSC_TRUE;
+  if (s->trivial) {
+    /* K = -I (stress rows only): x = -b, exactly; the displacements are
+     * the prescribed ones, exactly too */
+    PetscCall(VecCopy(b, x));
+    PetscCall(VecScale(x, -1.0));
+    s->iterations       = 0;
+    s->schur_used       = "";
+    s->forward_estimate = 0;
+    PetscCall(BwMixedCheck(s->mx, x, b, NULL, NULL, &s->check));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   if (s->requested == BW_METHOD_CONDENSED) {
     PetscCall(BwSolverCondensed(s, b, x, log));
     PetscFunctionReturn(PETSC_SUCCESS);
@@ -574,7 +591,8 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
 {
   PetscFunctionBeginUser;
   PetscCall(BwReportString(r, "method_requested", BwMethods[s->requested]));
-  PetscCall(BwReportString(r, "method_used", BwMethods[s->used]));
+  /* "none": every block dof prescribed, no system solved */
+  PetscCall(BwReportString(r, "method_used", s->trivial ? "none" : BwMethods[s->used]));
   PetscCall(BwReportInt(r, "setups", s->setups));
   PetscCall(BwReportString(r, "schur_solve", s->used == BW_METHOD_FIELDSPLIT && s->schur_used ? s->schur_used : ""));
   {
@@ -602,7 +620,8 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
 PetscErrorCode BwSolverView(BwSolver s, PetscViewer viewer)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  method: %s (requested %s), iterations %" PetscInt_FMT "%s%s\n", BwMethods[s->used], BwMethods[s->requested], s->iterations, s->fallback ? ", fallback: " : "", s->fallback_reason));
+  if (s->trivial) PetscCall(PetscViewerASCIIPrintf(viewer, "  method: none (requested %s): every block dof is prescribed, the stresses follow from the prescribed motions\n", BwMethods[s->requested]));
+  else PetscCall(PetscViewerASCIIPrintf(viewer, "  method: %s (requested %s), iterations %" PetscInt_FMT "%s%s\n", BwMethods[s->used], BwMethods[s->requested], s->iterations, s->fallback ? ", fallback: " : "", s->fallback_reason));
   {
     PetscInt groups;
     char     desc[128];

@@ -36,6 +36,7 @@ struct _n_BwSolver {
   PetscBool    symmetric;  /* the operators stay symmetric (else LU and GMRES where Cholesky and CG) */
   PetscBool    diagnose;   /* a failed solve names a mechanism (an extra factorisation) */
   PetscBool    forward_check; /* a solve also meets solver.forward_rtol (two refinement steps at least) */
+  PetscBool    trivial;    /* no block dof is free: nothing to solve for (BwSolverSetUp) */
   /* outcome of the last solve */
   BwMethod     used;
   const char  *schur_used; /* the Schur solve of the answer's fieldsplit path: cholesky | gamg | hypre; "" otherwise */

@@ -262,6 +262,7 @@ static PetscErrorCode BwMixedDropRoundoff(BwMixed mx, PetscInt *ia, PetscInt *ja
   PetscInt       group[BW_MAX_ND], ngroups = 0, n = 0, kept;
 
   PetscFunctionBeginUser;
+  if (!mx->nq_global) PetscFunctionReturn(PETSC_SUCCESS); /* an empty S^ does not split */
   for (PetscInt r = 0; r < mx->nq_local; r++)
     for (PetscInt e = ia[r]; e < ia[r + 1]; e++) {
       PetscInt a = r % nd, b = ja[e] % nd; /* a block's nd rows start at a multiple of nd */

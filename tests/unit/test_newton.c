@@ -83,7 +83,7 @@ int main(int argc, char **argv)
   pattern[3 * top + 2] = 0.055;
   PetscCall(BwNewtonCreate(&p, p.model->load, pattern, &nw));
   PetscCall(BwNewtonSetTolerances(nw, 1e-10, 40));
-  PetscCall(BwNewtonSetMonitor(nw, top, 0, "test"));
+  PetscCall(BwNewtonSetMonitor(nw, top, 0));
   PetscCall(BwNewtonRamp(nw, 1e-3, &substeps, &ok));
   PetscCheck(ok, p.comm, PETSC_ERR_PLIB, "the block does not carry its load");
 
