@@ -35,7 +35,8 @@ bw_install_debs() {
 # Python: numpy and h5py for the package python/blockwall (geometry files,
 # results, launching), matplotlib for its plots, ezdxf for tools/import_dxf,
 # meshio for the XDMF test, scipy for the limit analysis and the 3D crack
-# pattern (blockwall.limit, blockwall.cracks3d); then the package itself, editable, so that
+# pattern (blockwall.limit, blockwall.cracks3d), PyYAML for the test of the docs' YAML snippets
+# (tests/docs); then the package itself, editable, so that
 # `import blockwall` and blockwall-plot / blockwall-import-dxf use this checkout.
 bw_pip() {
   python3 -m pip install -q "$@" 2>/dev/null || python3 -m pip install -q --break-system-packages "$@"
@@ -49,6 +50,7 @@ bw_install_python() {
   python3 -c 'import meshio' 2>/dev/null || need+=(meshio)
   python3 -c 'import ezdxf' 2>/dev/null || need+=(ezdxf)
   python3 -c 'import scipy.optimize, scipy.spatial' 2>/dev/null || need+=(scipy)
+  python3 -c 'import yaml' 2>/dev/null || need+=(pyyaml)
   if [ ${#need[@]} -gt 0 ]; then
     echo "setup: pip installing ${need[*]}"
     bw_pip "${need[@]}"

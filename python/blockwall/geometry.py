@@ -1,4 +1,4 @@
-"""The HDF5 geometry input of `geometry.generator: file` (README, "HDF5
+"""The HDF5 geometry input of `geometry.generator: file` (docs/hdf5.md, "HDF5
 geometry input"), written from polygons and read back.
 
     from blockwall import Geometry

@@ -1,6 +1,6 @@
 """Plane polygons as blockwall reads them: the checks the geometry writer
 and the DXF importer make before a file is written, with the tolerance
-blockwall itself uses (README, "HDF5 geometry input"), so that what passes
+blockwall itself uses (docs/hdf5.md, "HDF5 geometry input"), so that what passes
 here passes there.
 
     delta = 1e-6 x (median edge length) + 1e-12 x (largest |coordinate|)

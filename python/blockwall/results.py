@@ -1,4 +1,4 @@
-"""A blockwall result file in numpy arrays (README, "HDF5 output").
+"""A blockwall result file in numpy arrays (docs/hdf5.md, "HDF5 output").
 
     res = read("out/wall.h5")
     res.displacement        # (B, 3) u1, u2, w

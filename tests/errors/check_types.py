@@ -84,7 +84,7 @@ BASE_DRY = [
 ]
 BASES = {"wall": BASE_WALL, "two": BASE_TWO, "dry": BASE_DRY}
 
-# key -> (base scene, type) from interface.md and README's scene reference
+# key -> (base scene, type) from interface.md and docs/scene.md
 KEYS = {
     "geometry.depth": ("wall", "real"),
     "geometry.running_bond.courses": ("wall", "int"),

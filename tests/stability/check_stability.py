@@ -89,7 +89,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "geometry"))
 from bwrun import ENV, EXE, Failure, expect  # noqa: E402
-from geomlib import write_geometry  # noqa: E402  (HDF5 geometry files, README "geometry.generator: file")
+from geomlib import write_geometry  # noqa: E402  (HDF5 geometry files, docs/hdf5.md "HDF5 geometry input")
 
 REFERENCE = os.environ.get("BW_REFERENCE", os.path.join(os.path.dirname(os.path.abspath(EXE)), "bw_reference"))
 TWO, TWO_MORTAR, WALL, FILE = (os.path.join(HERE, f) for f in
