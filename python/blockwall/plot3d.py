@@ -3,7 +3,8 @@ by ParaView's pvpython off-screen from the XDMF file blockwall writes
 beside the result (output.xdmf): the deformed assembly (every block's
 polyhedron warped by its rigid motion, amplified) coloured by the size of
 the displacement, and the interfaces coloured by their mean normal stress
-N/A, from a chosen view.
+N/A, from a chosen view; and the blocks and failed joint portions of a
+3D pushover's crack pattern (render_cracks3d, for cracks3d.py).
 
 Why pvpython and not PyVista: the XDMF (polyhedra, interface polygons, the
 vertex displacement field) is the file a user opens in ParaView anyway, so
@@ -132,3 +133,105 @@ def render3d(h5path, png, view="iso", scale=None, size=(1600, 1000), opacity=1.0
         if p.returncode != 0 or not os.path.exists(png):
             raise RuntimeError(f"pvpython failed ({p.returncode}): {p.stderr.strip()[-1500:]}")
     return scale
+
+
+_CRACK_SCRIPT = r"""
+import json, sys
+from paraview import servermanager, simple
+a = json.load(open(sys.argv[1]))
+view = simple.CreateView("RenderView")
+view.ViewSize = a["size"]
+view.Background = [1, 1, 1]
+view.OrientationAxesVisibility = 1
+view.OrientationAxesLabelColor = [0, 0, 0]
+try:
+    view.UseColorPaletteForBackground = 0
+except AttributeError:
+    pass
+# the blocks: translucent faces, their edges opaque, so that the joints
+# inside the wall show through and every block's outline is still seen
+blocks = simple.LegacyVTKReader(FileNames=[a["blocks"]])
+faces = simple.Show(blocks, view)
+simple.ColorBy(faces, None)
+faces.DiffuseColor = faces.AmbientColor = a["face_colour"]
+faces.Opacity = a["face_opacity"]
+edges = simple.Show(simple.ExtractEdges(Input=blocks), view)
+simple.ColorBy(edges, None)
+edges.DiffuseColor = edges.AmbientColor = a["edge_colour"]
+edges.LineWidth = a["edge_width"]
+edges.Opacity = a["edge_opacity"]
+report = {"block_faces": {}, "portions": {}}
+data_blocks = data = servermanager.Fetch(blocks)
+ids = data.GetCellData().GetArray("block")
+for c in range(data.GetNumberOfCells()):
+    b = str(int(ids.GetValue(c)))
+    report["block_faces"][b] = report["block_faces"].get(b, 0) + 1
+if a["portions"]:
+    # the failed portions in their own colours (rgb, not mapped through a
+    # colour table: MapScalars off), opaque
+    portions = simple.LegacyVTKReader(FileNames=[a["portions"]])
+    shown = simple.Show(portions, view)
+    simple.ColorBy(shown, ("CELLS", "rgb"))
+    shown.MapScalars = 0
+    # seen through the blocks' faces and often at a grazing angle: more
+    # ambient light keeps them near the legend's colours
+    shown.Ambient, shown.Diffuse = 0.45, 0.65
+    shown.SetScalarBarVisibility(view, False)
+    report["map_scalars"] = int(shown.MapScalars)
+    report["colour_array"] = list(shown.ColorArrayName)
+    data = servermanager.Fetch(portions)
+    rgb, state = data.GetCellData().GetArray("rgb"), data.GetCellData().GetArray("state")
+    for c in range(data.GetNumberOfCells()):
+        key = "%d,%d,%d;%d" % (*(int(rgb.GetComponent(c, i)) for i in range(3)), int(state.GetValue(c)))
+        report["portions"][key] = report["portions"].get(key, 0) + 1
+# a parallel projection fitted to the blocks as they are seen: ParaView's
+# camera reset fits the bounding sphere, which left a flat wall small in
+# the middle of the picture (rendered once first: paraview.simple resets
+# the camera on a view's first render)
+simple.Render(view)
+d, up = a["direction"], a["up"]
+n = sum(x * x for x in d) ** 0.5
+d = [x / n for x in d]
+right = [up[1] * d[2] - up[2] * d[1], up[2] * d[0] - up[0] * d[2], up[0] * d[1] - up[1] * d[0]]
+n = sum(x * x for x in right) ** 0.5
+right = [x / n for x in right]
+up = [d[1] * right[2] - d[2] * right[1], d[2] * right[0] - d[0] * right[2], d[0] * right[1] - d[1] * right[0]]
+pts = data_blocks.GetPoints()
+proj = [[sum(pts.GetPoint(i)[k] * e[k] for k in range(3)) for e in (right, up, d)] for i in range(pts.GetNumberOfPoints())]
+lo = [min(p[k] for p in proj) for k in range(3)]
+hi = [max(p[k] for p in proj) for k in range(3)]
+mid = [(lo[k] + hi[k]) / 2 for k in range(3)]
+fp = [mid[0] * right[k] + mid[1] * up[k] + mid[2] * d[k] for k in range(3)]
+depth = max(hi[k] - lo[k] for k in range(3))
+view.CameraParallelProjection = 1
+view.CameraFocalPoint = fp
+view.CameraPosition = [fp[k] + 4 * depth * d[k] for k in range(3)]
+view.CameraViewUp = up
+view.CameraParallelScale = 0.53 * max(hi[1] - lo[1], (hi[0] - lo[0]) * a["size"][1] / a["size"][0])
+simple.Render(view)
+simple.SaveScreenshot(a["png"], view, ImageResolution=a["size"], TransparentBackground=0)
+print("REPORT " + json.dumps(report))
+"""
+
+
+def render_cracks3d(blocks_vtk, portions_vtk, png, view="iso", size=(1600, 1000), style=None, timeout=600):
+    """Draw a crack pattern's blocks (legacy VTK polygons with the cell
+    array `block`) and failed portions (cell arrays `rgb`, `state`; None if
+    no portion failed) into `png` with pvpython. Returns what pvpython
+    loaded and showed: {"block_faces": {block: faces}, "portions":
+    {"r,g,b;state": count}, "map_scalars", "colour_array"}."""
+    if view not in VIEWS:
+        raise ValueError(f"--view must be one of {', '.join(VIEWS)}, got {view!r}")
+    direction, up = VIEWS[view]
+    with tempfile.TemporaryDirectory() as tmp:
+        script, args = os.path.join(tmp, "cracks.py"), os.path.join(tmp, "args.json")
+        with open(script, "w") as f:
+            f.write(_CRACK_SCRIPT)
+        with open(args, "w") as f:
+            json.dump(dict(blocks=os.path.abspath(blocks_vtk), portions=portions_vtk and os.path.abspath(portions_vtk),
+                           png=os.path.abspath(png), size=list(size), direction=direction, up=up, **(style or {})), f)
+        p = run_with_display([*pvpython_command(), script, args], timeout=timeout)
+        lines = [line for line in p.stdout.splitlines() if line.startswith("REPORT ")]
+        if p.returncode != 0 or not os.path.exists(png) or not lines:
+            raise RuntimeError(f"pvpython failed ({p.returncode}): {p.stderr.strip()[-1500:]}")
+    return json.loads(lines[-1][len("REPORT "):])

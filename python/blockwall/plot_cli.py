@@ -39,7 +39,9 @@ def _pushover_pictures(res, draw, outdir, stem, dpi, how):
         cracks.figure.savefig(path, dpi=dpi)
         which = (f"step {cracks.step}, the written step nearest to the peak, step {cracks.requested}" if cracks.nearest
                  else f"step {cracks.step}")
-        print(f"crack pattern at the {at} ({which}){how}: {path}")
+        drawn = (f", blocks warped x{cracks.scene.scale:g}, drawn by {cracks.renderer}"
+                 if getattr(cracks, "scene", None) is not None else "")
+        print(f"crack pattern at the {at} ({which}){how}{drawn}: {path}")
 
 
 def main(argv=None, prog="tools/plot"):
@@ -48,8 +50,9 @@ def main(argv=None, prog="tools/plot"):
         description="Draw a blockwall result: the deformed wall (STEM_wall.png) and the normal and shear "
                     "stress diagrams along interfaces (STEM_stress_K.png); for a pushover also the capacity "
                     "curve (STEM_history.png) and the crack pattern at the peak and at the end "
-                    "(STEM_cracks_peak.png, STEM_cracks_end.png); for a 3D result the deformed assembly from "
-                    "--view (STEM_3d_VIEW.png, drawn by pvpython); print the file's attributes.")
+                    "(STEM_cracks_peak.png, STEM_cracks_end.png; in 3D the warped blocks and the failed joint portions from "
+                    "--view); for a 3D result the deformed assembly from --view (STEM_3d_VIEW.png, drawn by "
+                    "pvpython); print the file's attributes.")
     p.add_argument("file", help="HDF5 result file written by blockwall")
     p.add_argument("--outdir", help="directory for the PNGs (default: beside the file)")
     p.add_argument("--color", choices=list(COLORS), default="umag", help="block colour (default: umag)")
@@ -59,6 +62,9 @@ def main(argv=None, prog="tools/plot"):
                                         f"(default: all if at most {DEFAULT_ALL}, else the first {DEFAULT_FIRST})")
     p.add_argument("--dpi", type=int, default=150)
     p.add_argument("--view", default="iso", help="3D results: iso, front, back, side or top (default: iso)")
+    p.add_argument("--renderer", choices=["auto", "pvpython", "matplotlib"], default="auto",
+                   help="3D pushovers: who draws the crack pattern (default: pvpython where it and a display "
+                        "for it, or Xvfb, are found, else matplotlib)")
     args = p.parse_args(argv)
     try:
         if args.scale is not None and not args.scale > 0:
@@ -78,8 +84,9 @@ def main(argv=None, prog="tools/plot"):
             # a 3D pushover: the capacity curve and the crack pattern (matplotlib)
             from .cracks3d import plot_cracks3d
             try:
-                _pushover_pictures(res, lambda at: plot_cracks3d(res, at, args.view), outdir, stem, args.dpi, f", {args.view} view")
-            except ValueError as e:
+                _pushover_pictures(res, lambda at: plot_cracks3d(res, at, args.view, args.renderer, args.scale), outdir, stem,
+                                   args.dpi, f", {args.view} view")
+            except (RuntimeError, ValueError) as e:
                 print(f"plot: error: {e}", file=sys.stderr)
                 return 1
             return 0

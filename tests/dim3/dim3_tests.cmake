@@ -52,5 +52,16 @@ endforeach()
 foreach(case block u_wall)
   bw_py_test(dim3.limit.${case} "dim3;nonlinear;gallery" dim3/check_limit3d.py ${case})
 endforeach()
-# tools/plot on a 3D pushover: capacity curve and crack pattern (matplotlib).
-bw_py_test(dim3.plot_cracks "dim3;post;nonlinear" dim3/check_cracks3d.py)
+# tools/plot on a 3D pushover: capacity curve and crack pattern, the warped
+# blocks and the failed portions coloured by state, drawn by matplotlib (the
+# fallback without ParaView) and, where it is, by pvpython (on an Xvfb of
+# its own: one at a time, like the other tests that start one).
+bw_py_test(dim3.plot_cracks "dim3;post;nonlinear" dim3/check_cracks3d.py matplotlib)
+set_tests_properties(dim3.plot_cracks PROPERTIES TIMEOUT 400)
+find_program(BW_PVPYTHON pvpython)
+find_program(BW_XVFB_RUN xvfb-run)
+if(BW_PVPYTHON AND BW_XVFB_RUN)
+  bw_py_test(dim3.plot_cracks_pvpython "dim3;post;nonlinear;paraview" dim3/check_cracks3d.py pvpython)
+  set_property(TEST dim3.plot_cracks_pvpython APPEND PROPERTY ENVIRONMENT "BW_PVPYTHON=${BW_PVPYTHON};BW_XVFB_RUN=${BW_XVFB_RUN}")
+  set_tests_properties(dim3.plot_cracks_pvpython PROPERTIES RESOURCE_LOCK xvfb TIMEOUT 900)
+endif()
