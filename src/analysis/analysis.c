@@ -84,6 +84,7 @@ PetscErrorCode BwProblemPrintHead(BwProblem *p)
   PetscCall(PetscPrintf(p->comm, "blockwall %s%s%s\n", BW_VERSION, p->title[0] ? ": " : "", p->title));
   PetscCall(PetscPrintf(p->comm, "  blocks %" PetscInt_FMT ", interfaces %" PetscInt_FMT ", m %" PetscInt_FMT ", ranks %d\n", own.nblocks, own.ninterfaces, own.m, size));
   PetscCall(PetscPrintf(p->comm, "  unknowns: q %" PetscInt_FMT " (block dofs), r %" PetscInt_FMT " (stresses)\n", own.nq_global, own.nr_global));
+  PetscCall(PetscPrintf(p->comm, "  partition: edge cut %" PetscInt_FMT " interfaces, imbalance %.3f (largest rank's blocks over the mean)\n", own.edge_cut, (double)own.imbalance));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -99,7 +100,7 @@ PetscErrorCode BwProblemPrintTail(BwProblem *p, const char files[])
   PetscCall(PetscPrintf(p->comm, "  time [s]:"));
   for (int ph = 0; ph < BW_NPHASES; ph++) PetscCall(PetscPrintf(p->comm, " %s %.3f,", BwPhaseNames[ph], p->log->seconds[ph]));
   PetscCall(PetscPrintf(p->comm, " total %.3f\n", total));
-  PetscCall(PetscPrintf(p->comm, "  memory: peak %.1f MB over all ranks (%.0f bytes per block); BLAS %s\n", peak / 1048576.0, peak / (double)p->geom->nblocks, blas));
+  PetscCall(PetscPrintf(p->comm, "  memory: peak %.1f MB over all ranks (%.0f bytes per block); BLAS %s\n", peak / 1048576.0, peak / (double)p->geom->nblocks_global, blas));
   PetscCall(PetscPrintf(p->comm, "  output: %s\n", files));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -104,22 +104,18 @@ PetscErrorCode BwNewtonSetTolerances(BwNewton nw, PetscReal rtol, PetscInt maxit
 
 PetscErrorCode BwNewtonSetMonitor(BwNewton nw, PetscInt block, PetscInt dof)
 {
-  PetscInt  lo, hi, row;
-  PetscReal scale = 0, s;
+  PetscInt  row;
+  PetscReal scale = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(BwMixedDofRow(nw->mx, block, dof, &row, &scale));
   /* a prescribed monitor (load control of an assembly whose every dof is
    * prescribed) reads its prescribed value; displacement and dissipation
    * control need a free one (checked where they start) */
-  nw->mon_fixed = nw->p->model->value[nw->p->model->nd * block + dof];
-  PetscCall(VecGetOwnershipRange(nw->x, &lo, &hi));
-  if (!(row >= lo && row < hi)) scale = 0;
-  PetscCallMPI(MPI_Allreduce(&scale, &s, 1, MPIU_REAL, MPI_MAX, nw->p->comm));
+  PetscCall(BwMixedDofRow(nw->mx, block, dof, &row, &scale, &nw->mon_fixed));
   nw->mon_row   = row;
   nw->mon_block = block;
   nw->mon_dof   = dof;
-  nw->mon_scale = s;
+  nw->mon_scale = scale;
   if (!nw->dx2) PetscCall(VecDuplicate(nw->x, &nw->dx2));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

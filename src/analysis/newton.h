@@ -29,7 +29,7 @@ typedef struct _n_BwNewton *BwNewton;
 PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton);
 PetscErrorCode BwNewtonDestroy(BwNewton *newton);
 PetscErrorCode BwNewtonSetTolerances(BwNewton newton, PetscReal rtol, PetscInt maxit);
-/* The monitor dof `dof` of `block`: under displacement control it follows
+/* The monitor dof `dof` of global block `block`: under displacement control it follows
  * the values given to BwNewtonSolve, which needs it free; a prescribed one
  * (load control of an assembly whose every dof is prescribed) reads its
  * prescribed value. */

@@ -19,14 +19,16 @@
  *   analysis.pushover.min_step     smallest cut-back, a fraction of one increment
  *   analysis.pushover.tolerance    Newton: relative true residual
  *   analysis.pushover.max_iterations
+ *   analysis.pushover.on_reversal  stop (default) | continue
  *   output.steps                   last | all | every_N
  *
  * After a failed step the increment is halved; after two successes in a
  * row it doubles again, up to the nominal one. The run ends when the target
  * is reached, or when no state beyond the last converged one is found even
  * with the smallest increment: under load control the collapse, under
- * displacement control the end of what it can follow (stop_reason says
- * which). Every converged state is a step of the history (cut-backs add
+ * displacement control the end of what it can follow, or (on_reversal:
+ * stop) at the first step past the peak whose lambda has changed sign, the
+ * collapse under held loads (stop_reason says which). Every converged state is a step of the history (cut-backs add
  * steps); only converged states are written. */
 #include <string.h>
 #include "analysis/analysis.h"
@@ -54,14 +56,29 @@ typedef struct {
   PetscReal  dissipation_step; /* the first energy per step under dissipation control; 0: from the first step that dissipates */
   PetscInt   steps, max_iterations;
   PetscInt   every; /* output.steps: 0 last, 1 all, N every N-th */
+  PetscBool  stop_on_reversal; /* analysis.pushover.on_reversal: stop (default) | continue */
 } BwPushover;
+
+/* The first converged step past the peak whose lambda has the other sign
+ * than the largest |lambda| before it (lambda * lambda_peak <= 0,
+ * lambda_peak != 0), -1 if none: where the assembly no longer carries the
+ * held loads (interface.md, additions of 2026-11-26). */
+static PetscInt BwReversalStep(PetscInt n, const PetscReal lambda[])
+{
+  PetscInt big = 0;
+  for (PetscInt s = 1; s < n; s++) {
+    if (lambda[big] != 0 && lambda[s] * lambda[big] <= 0) return s;
+    if (PetscAbsReal(lambda[s]) > PetscAbsReal(lambda[big])) big = s;
+  }
+  return -1;
+}
 
 static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
 {
   BwPushover *po = (BwPushover *)a->data;
   BwGeometry  g  = p->geom;
   PetscReal  *bf = NULL;
-  PetscInt    nbf = 0, control = 0, dof = -1, set = -1;
+  PetscInt    nbf = 0, control = 0, dof = -1, set = -1, local = -1;
   PetscBool   given, has_target, has_monitor;
   char        steps[64] = "last", dofname[16] = "", doflist[64] = "";
   const PetscInt            nd = p->model->nd, ndim = g->dim;
@@ -71,7 +88,7 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   PetscCall(BwAnalysisSolverForJoints(p));
   PetscCall(BwSolverSetExpectedSolves(p->solver, 100));
   PetscCall(BwSceneHelpSection(p->scene, "Pushover (scene key analysis.pushover.*)"));
-  PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover", "loads, body_force, control, monitor, target, steps, min_step, tolerance, max_iterations, dissipation_step"));
+  PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover", "loads, body_force, control, monitor, target, steps, min_step, tolerance, max_iterations, dissipation_step, on_reversal"));
   /* the pattern */
   for (PetscInt c = 0; c < nd; c++) {
     PetscCall(PetscStrlcat(doflist, c ? (c == nd - 1 ? " or " : ", ") : "", sizeof(doflist)));
@@ -90,13 +107,21 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   }
   PetscCall(PetscFree(bf));
   {
-    PetscReal norm = 0;
+    PetscReal norm = 0, all;
     for (PetscInt i = 0; i < nd * g->nblocks; i++) norm = PetscMax(norm, PetscAbsReal(po->pattern[i]));
+    PetscCallMPI(MPIU_Allreduce(&norm, &all, 1, MPIU_REAL, MPIU_MAX, p->comm));
+    norm = all;
     if (!(norm > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_loads", "the load pattern is zero: give analysis.pushover.loads or analysis.pushover.body_force"));
   }
   /* control and monitor */
   PetscCall(BwSceneEnum(p->scene, "-analysis_pushover_control", "load (lambda prescribed per step), displacement (the monitor dof prescribed, lambda unknown) or dissipation (displacement control while the joints are elastic, then the energy dissipated per step prescribed: follows snap-backs)", 3, BwControls, &control, NULL));
   po->control = (BwControl)control;
+  {
+    static const char *const on_reversal[] = {"stop", "continue"};
+    PetscInt                 choice        = 0;
+    PetscCall(BwSceneEnum(p->scene, "-analysis_pushover_on_reversal", "Past the peak, a load factor of the other sign than its largest means the assembly no longer carries the held loads (collapse): stop there (default) or continue to the target or the most steps", 2, on_reversal, &choice, NULL));
+    po->stop_on_reversal = choice == 0 ? PETSC_TRUE : PETSC_FALSE;
+  }
   po->dissipation_step = 0;
   PetscCall(BwSceneReal(p->scene, "-analysis_pushover_dissipation_step", "control: dissipation: the energy dissipated per step at first [J] (adapted to Newton's iterations); default: what the first dissipating step dissipated", &po->dissipation_step, &given));
   if (given && !(po->dissipation_step > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_dissipation_step", "must be > 0 [J], got %g", (double)po->dissipation_step));
@@ -109,8 +134,8 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
     PetscCall(BwGeometryFindSet(g, po->monitor_set, &set));
     PetscCall(BwGeometryGetSetNames(g, names, sizeof(names)));
     if (set < 0) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_set", "'%s' does not name a block set (sets: %s)", po->monitor_set, names));
-    if (g->setoffsets[set + 1] == g->setoffsets[set]) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_set", "set '%s' is empty", po->monitor_set));
-    po->monitor_block = g->setblocks[g->setoffsets[set]];
+    if (!g->setsize_global[set]) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor_set", "set '%s' is empty", po->monitor_set));
+    PetscCall(BwGeometrySetFirst(g, set, &po->monitor_block, &local));
     if (!given) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "needs dof: %s", doflist));
   } else if (given) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "needs set: the block set whose first block is followed"));
   if (given) {
@@ -126,25 +151,35 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
     /* load control may do without: the largest component of the pattern */
     PetscReal best = -1;
     if (po->control != BW_CONTROL_LOAD) PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "is required with control: %s (monitor: {set: SET, dof: %s})", BwControls[po->control], doflist));
-    for (PetscInt i = 0; i < nd * g->nblocks; i++)
-      if (PetscAbsReal(po->pattern[i]) > best && !p->model->prescribed[i]) {
-        best              = PetscAbsReal(po->pattern[i]);
-        po->monitor_block = i / nd;
-        po->monitor_dof   = i % nd;
-      }
-    /* every block dof prescribed: nothing moves, and the monitor reads the
-     * prescribed value of the pattern's largest component */
-    if (best < 0)
-      for (PetscInt i = 0; i < nd * g->nblocks; i++)
-        if (PetscAbsReal(po->pattern[i]) > best) {
-          best              = PetscAbsReal(po->pattern[i]);
-          po->monitor_block = i / nd;
-          po->monitor_dof   = i % nd;
+    /* over the owned blocks of every rank, the first (lowest global dof)
+     * of the largest: a free dof, else (every block dof prescribed:
+     * nothing moves, the monitor reads its prescribed value) any */
+    for (int pass = 0; pass < 2 && best < 0; pass++) {
+      struct {
+        double value;
+        int    index;
+      } mine = {-1, 0}, all;
+      for (PetscInt b = 0; b < g->nown_blocks; b++)
+        for (PetscInt c = 0; c < nd; c++) {
+          PetscReal v = PetscAbsReal(po->pattern[nd * b + c]);
+          if ((pass || !p->model->prescribed[nd * b + c]) && v > mine.value) {
+            mine.value = v;
+            mine.index = (int)(nd * g->gblock[b] + c);
+          }
         }
+      PetscCallMPI(MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE_INT, MPI_MAXLOC, p->comm));
+      best = all.value;
+      if (best >= 0) {
+        po->monitor_block = all.index / nd;
+        po->monitor_dof   = all.index % nd;
+      }
+    }
     PetscCall(PetscSNPrintf(po->monitor_set, sizeof(po->monitor_set), "block %" PetscInt_FMT, po->monitor_block));
   }
-  if (has_monitor && p->model->prescribed[nd * po->monitor_block + po->monitor_dof])
-    PetscCall(BwSceneError(p->scene, "-analysis_pushover_monitor", "dof %s of block %" PetscInt_FMT " (set %s) is prescribed by the supports; the monitor must be free", dofs[po->monitor_dof], po->monitor_block, po->monitor_set));
+  if (has_monitor) {
+    PetscBool bad = local >= 0 && p->model->prescribed[nd * local + po->monitor_dof] ? PETSC_TRUE : PETSC_FALSE;
+    PetscCall(BwSceneErrorAgree(p->scene, bad, "-analysis_pushover_monitor", "dof %s of block %" PetscInt_FMT " (set %s) is prescribed by the supports; the monitor must be free", dofs[po->monitor_dof], po->monitor_block, po->monitor_set));
+  }
   /* the increments */
   po->target = 0;
   PetscCall(BwSceneReal(p->scene, "-analysis_pushover_target", "Final lambda (control: load) or final monitor value [m or rad] (control: displacement)", &po->target, &has_target));
@@ -374,6 +409,8 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
         }
       }
       if (po->control == BW_CONTROL_DISSIPATION && step >= po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target", po->steps));
+      if (po->stop_on_reversal && BwReversalStep(h->n, h->lambda) == step)
+        PetscCall(PetscSNPrintf(stop, len, "the load factor changed sign past its peak: lambda %.6g at step %" PetscInt_FMT ", the assembly no longer carries the held loads (collapse; analysis.pushover.on_reversal: continue goes on)", (double)lambda, step));
     } else if (by_energy) {
       PetscBool elastic;
       PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
@@ -455,7 +492,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   BwHistory      h = {0, 0, NULL, NULL, NULL, NULL, NULL};
   char          *text, stop[1024] = "";
   PetscReal      lambda = 0, peak = -PETSC_MAX_REAL, peak_mon = 0, *load;
-  PetscInt       npeak = 0, nsteps_planned, count[4], crushed = 0, its, solves, reversal = -1, big = 0; /* big: the step of the largest |lambda| */
+  PetscInt       npeak = 0, nsteps_planned, count[4], crushed = 0, its, solves, reversal = -1;
   PetscErrorCode ierr;
   BwResults      res  = {NULL, NULL, NULL, NULL, NULL, NULL};
   BwOutputData   data = {p->mixed, NULL, NULL, NULL, NULL, NULL, NULL, NULL};
@@ -490,21 +527,16 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
       peak_mon = h.monitor[s];
       npeak    = s;
     }
-    if (PetscAbsReal(h.lambda[s]) > PetscAbsReal(h.lambda[big])) big = s;
   }
-  if (h.lambda[big] != 0) {
-    /* Past its peak the pattern's load can fall through zero: where the
-     * softened joints no longer carry the constant loads (a joint under a
-     * held pull), or where a snap-back unloads the wall and the
-     * dissipating zone goes on under a reversed pattern (examples/j7d.yaml
-     * with two Newton variants not kept, to lambda = -0.7 of the peak).
-     * The run goes on as interface.md fixes it (to the target or the most
-     * steps), an equilibrium path but no pushover any more: the first step
-     * where lambda has changed sign against its largest magnitude is
-     * reported (load_reversal_step, -1 if none) and the summary says so. */
-    for (PetscInt s = big + 1; s < h.n && reversal < 0; s++)
-      if (h.lambda[s] * h.lambda[big] <= 0) reversal = s;
-  }
+  /* Past its peak the pattern's load can fall through zero: where the
+   * softened joints no longer carry the constant loads (a joint under a
+   * held pull), or where a snap-back unloads the wall and the dissipating
+   * zone goes on under a reversed pattern (examples/j7d.yaml with two
+   * Newton variants not kept, to lambda = -0.7 of the peak). The run has
+   * stopped there (on_reversal: stop), or went on as asked (continue), an
+   * equilibrium path but no pushover any more: the step is reported
+   * (load_reversal_step, -1 if none), and the summary says so. */
+  reversal = BwReversalStep(h.n, h.lambda);
 
   /* the final state: results, self-check, the file */
   PetscCall(BwLogBegin(p->log, BW_PHASE_RECOVER));
@@ -550,9 +582,11 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(BwReportString(report, "monitor_dof", BwModelDofNames(p->model)[po->monitor_dof]));
   {
     /* |the sum of the pattern's forces| (the first dim components per block) */
-    PetscReal f[3] = {0, 0, 0};
-    for (PetscInt b = 0; b < p->geom->nblocks; b++)
+    PetscReal f[3] = {0, 0, 0}, all[3];
+    for (PetscInt b = 0; b < p->geom->nown_blocks; b++)
       for (PetscInt c = 0; c < p->geom->dim; c++) f[c] += po->pattern[p->model->nd * b + c];
+    PetscCallMPI(MPIU_Allreduce(f, all, 3, MPIU_REAL, MPIU_SUM, p->comm));
+    for (int c = 0; c < 3; c++) f[c] = all[c];
     PetscCall(BwReportReal(report, "pattern_resultant", PetscSqrtReal(f[0] * f[0] + f[1] * f[1] + f[2] * f[2])));
   }
   PetscCall(BwReportInt(report, "newton_iterations", its));
@@ -575,7 +609,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(PetscPrintf(p->comm, "  steps %" PetscInt_FMT " (%" PetscInt_FMT " Newton iterations, %" PetscInt_FMT " linear solves); stop: %s\n", h.n, its, solves, stop));
   PetscCall(PetscPrintf(p->comm, "  peak load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); last: load factor %.6g, monitor %.6g\n", (double)peak, npeak, (double)peak_mon, (double)h.lambda[h.n - 1], (double)h.monitor[h.n - 1]));
   PetscCall(PetscPrintf(p->comm, "  first peak: load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); residual load factor %.6g (%.3g of the peak); dissipated %.6g J\n", (double)cap.first_peak_load_factor, cap.first_peak, (double)cap.first_peak_monitor, (double)cap.residual_load_factor, (double)(cap.residual_load_factor / peak), (double)cap.dissipated_energy));
-  if (reversal >= 0) PetscCall(PetscPrintf(p->comm, "  warning: the load factor changed sign at step %" PetscInt_FMT " (monitor %.6g), past its peak: from there the pattern acts the other way (the softened joints no longer carry the constant loads, or a snap-back unloaded the wall), no pushover any more; /solver load_reversal_step\n", reversal, (double)h.monitor[reversal]));
+  if (reversal >= 0 && !po->stop_on_reversal) PetscCall(PetscPrintf(p->comm, "  warning: the load factor changed sign at step %" PetscInt_FMT " (monitor %.6g), past its peak: from there the pattern acts the other way (the softened joints no longer carry the constant loads, or a snap-back unloaded the wall), no pushover any more; /solver load_reversal_step\n", reversal, (double)h.monitor[reversal]));
   if (cap.note[0]) PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): %s; ultimate displacement %.6g\n", cap.note, (double)cap.ultimate_displacement));
   else PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): stiffness %.6g, yield load factor %.6g at %.6g, ultimate displacement %.6g, ductility %.3g\n", (double)cap.stiffness, (double)cap.yield_force, (double)cap.yield_displacement, (double)cap.ultimate_displacement, (double)cap.ductility));
   PetscCall(PetscPrintf(p->comm, "  joints at the end: %" PetscInt_FMT " portions open, %" PetscInt_FMT " sliding, %" PetscInt_FMT " both, %" PetscInt_FMT " elastic", count[1], count[2], count[3], count[0]));

@@ -10,11 +10,12 @@ static const char help[] = "blockwall: static equilibrium of rigid blocks joined
  *   2. every key that does not depend on the geometry (BwModel, BwGeometry,
  *      BwOutput, BwSolver, the analysis), then options nobody reads are
  *      refused
- *   3. geometry, joint stiffness, supports, loads (BwGeometry, BwModel) and
- *      the analysis's own keys (load cases), then every unread key of
- *      blockwall's is refused, before any work
- *   4. partition (METIS, more than one rank), layout and assembly of the
- *      scaled mixed system (BwMixed), the solver bound to it (BwSolver)
+ *   3. each rank's share of the geometry (BwGeometry), the partition that
+ *      gives each rank its piece (more than one rank), joint stiffness,
+ *      supports, loads (BwModel) and the analysis's own keys (load cases),
+ *      then every unread key of blockwall's is refused
+ *   4. layout and assembly of the scaled mixed system (BwMixed), the
+ *      solver bound to it (BwSolver)
  *   5. the analysis: solves, recovery, self-checks, HDF5 output, summary
  * Errors print one line on stderr and exit non-zero without output. */
 #include <hdf5.h>
@@ -52,7 +53,6 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   BwProblem         *p    = &run->p;
   char               path[PETSC_MAX_PATH_LEN] = "";
   PetscBool          has_scene, help, progress_set;
-  PetscMPIInt       *owner = NULL;
   PetscInt           ndeferred;
   const char *const *deferred;
   BwStorage          storage;
@@ -86,25 +86,30 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   PetscCall(BwSolverGetOptionPrefixes(&ndeferred, &deferred));
   PetscCall(BwSceneCheckUnused(p->scene, BW_CHECK_FOREIGN, 0, NULL, ndeferred, deferred));
 
-  /* 3. geometry, then what depends on it */
+  /* 3. each rank's share of the geometry, then (more than one rank) the
+   * partition that gives each its piece; then what depends on it */
   PetscCall(BwLogBegin(p->log, BW_PHASE_GENERATE));
   if (has_scene) PetscCall(BwGeometrySetUp(p->geom, p->scene, p->model->law[BW_JOINT_BED]->thickness));
+  if (!progress_set) run->log.verbose = p->geom->nblocks_global >= 10000 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(BwLogEnd(p->log, BW_PHASE_GENERATE));
+  if (!has_scene) {
+    /* -help alone: the keys that need a geometry are listed with none */
+    PetscCall(BwModelSetUp(p->model, p->geom, p->scene));
+    PetscCall(BwAnalysisSetFromOptions(run->analysis, p));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(BwLogBegin(p->log, BW_PHASE_PARTITION));
+  PetscCall(BwGeometryDistribute(p->geom, (BwPartitionMethod)p->geom->partition));
+  PetscCall(BwLogEnd(p->log, BW_PHASE_PARTITION));
+  PetscCall(BwLogBegin(p->log, BW_PHASE_ASSEMBLE));
   PetscCall(BwModelSetUp(p->model, p->geom, p->scene));
   PetscCall(BwAnalysisSetFromOptions(run->analysis, p));
-  if (!progress_set) run->log.verbose = p->geom->nblocks >= 10000 ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(BwLogEnd(p->log, BW_PHASE_GENERATE));
-  if (!has_scene) PetscFunctionReturn(PETSC_SUCCESS); /* -help alone */
   /* every key of blockwall's has been read: the rest are typos, found
    * before the work (the solvers' own options wait for them) */
   PetscCall(BwSceneCheckUnused(p->scene, BW_CHECK_SETUP, 0, NULL, ndeferred, deferred));
 
-  /* 4. partition, assembly, the solver */
-  PetscCall(BwLogBegin(p->log, BW_PHASE_PARTITION));
-  PetscCall(BwPartitionBlocks(p->model, &owner));
-  PetscCall(BwLogEnd(p->log, BW_PHASE_PARTITION));
-  PetscCall(BwLogBegin(p->log, BW_PHASE_ASSEMBLE));
-  PetscCall(BwMixedCreate(p->model, owner, &p->mixed));
-  PetscCall(PetscFree(owner));
+  /* 4. assembly, the solver */
+  PetscCall(BwMixedCreate(p->model, &p->mixed));
   PetscCall(BwSolverGetStorage(p->solver, &storage));
   /* a linear analysis of elastic joints solves with the operators as
    * assembled: S^ may leave out its round-off entries */

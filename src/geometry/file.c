@@ -24,9 +24,10 @@
  * an output file read back gives the same results whether or not they are
  * there. All interfaces are bed joints (joints.*); kn, kt override them.
  *
- * Rank 0 reads, checks and builds the geometry, then broadcasts it; an
- * error on rank 0 is broadcast as its one-line message and raised on every
- * rank, so all ranks fail together with the same line. */
+ * Rank 0 reads, checks and builds the geometry, the other ranks' shares
+ * are empty (BwGeometryShareFromRankZero); an error on rank 0 is broadcast
+ * as its one-line message and raised on every rank, so all ranks fail
+ * together with the same line. */
 #include <errno.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -462,11 +463,14 @@ static PetscErrorCode BwFileStiffnessAndSets(BwGeometry g, BwFileData *d)
     PetscCall(PetscArraycpy(*to, k, d->ni));
   }
   for (PetscInt s = 0; s < d->nsets; s++) {
-    PetscInt *members;
-    PetscCall(PetscMalloc1(d->setlen[s] + 1, &members));
-    for (PetscInt k = 0; k < d->setlen[s]; k++) members[k] = (PetscInt)d->setdata[s][k];
-    PetscCall(BwGeometryAddSet(g, d->setname[s], d->setlen[s], members));
-    PetscCall(PetscFree(members));
+    PetscInt *members, *pos;
+    PetscCall(PetscMalloc2(d->setlen[s] + 1, &members, d->setlen[s] + 1, &pos));
+    for (PetscInt k = 0; k < d->setlen[s]; k++) {
+      members[k] = (PetscInt)d->setdata[s][k];
+      pos[k]     = k; /* written back in the file's order */
+    }
+    PetscCall(BwGeometryAddSetAt(g, d->setname[s], d->setlen[s], members, pos));
+    PetscCall(PetscFree2(members, pos));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -512,149 +516,50 @@ static PetscErrorCode BwFileBuild(BwGeometry g, BwFileData *d, PetscReal thickne
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* What 2D and 3D broadcast alike: kinds, stiffness, sets. */
-static PetscErrorCode BwGeometryBcastCommon(BwGeometry g, const PetscInt n[7])
+/* Rank 0 read the file and holds every block: its share is the whole
+ * assembly, the other ranks' are empty, and BwGeometryDistribute moves the
+ * blocks out. The other ranks learn what every share must know: the
+ * dimension, the depth, the counts, the set names, whether the file gives
+ * stiffnesses. (Rank 0 holds the file's whole geometry while it reads and
+ * checks it: the parallel reader replaces this.) */
+static PetscErrorCode BwGeometryShareFromRankZero(BwGeometry g)
 {
   PetscMPIInt rank;
+  PetscInt    n[5]    = {g->nblocks, g->ninterfaces, g->nsets, g->volume ? 3 : 2, g->kn ? 1 : 0};
   PetscInt    namelen = 0;
   char       *names   = NULL;
-  int        *kind;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
-  PetscCall(PetscMalloc1(n[2] + 1, &kind));
-  for (PetscInt k = 0; k < n[2]; k++) kind[k] = (int)g->kind[k];
-  PetscCallMPI(MPI_Bcast(kind, (PetscMPIInt)n[2], MPI_INT, 0, g->comm));
-  for (PetscInt k = 0; k < n[2]; k++) g->kind[k] = (BwJointKind)kind[k];
-  PetscCall(PetscFree(kind));
-  if (n[5]) PetscCallMPI(MPI_Bcast(g->kn, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
-  if (n[6]) PetscCallMPI(MPI_Bcast(g->kt, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->setoffsets, (PetscMPIInt)(n[3] + 1), MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->setblocks, (PetscMPIInt)n[4], MPIU_INT, 0, g->comm));
-  /* set names, '\0'-separated */
+  PetscCallMPI(MPI_Bcast(n, 5, MPIU_INT, 0, g->comm));
+  PetscCallMPI(MPI_Bcast(&g->depth, 1, MPIU_REAL, 0, g->comm));
   if (!rank)
-    for (PetscInt s = 0; s < n[3]; s++) namelen += (PetscInt)strlen(g->setname[s]) + 1;
+    for (PetscInt s = 0; s < n[2]; s++) namelen += (PetscInt)strlen(g->setname[s]) + 1;
   PetscCallMPI(MPI_Bcast(&namelen, 1, MPIU_INT, 0, g->comm));
   PetscCall(PetscMalloc1(namelen + 1, &names));
   if (!rank)
-    for (PetscInt s = 0, at = 0; s < n[3]; s++) {
+    for (PetscInt s = 0, at = 0; s < n[2]; s++) {
       PetscCall(PetscStrcpy(names + at, g->setname[s]));
       at += (PetscInt)strlen(g->setname[s]) + 1;
     }
   PetscCallMPI(MPI_Bcast(names, (PetscMPIInt)namelen, MPI_CHAR, 0, g->comm));
-  if (rank)
-    for (PetscInt s = 0, at = 0; s < n[3]; s++) {
-      PetscCall(PetscStrallocpy(names + at, &g->setname[s]));
+  if (rank) {
+    /* an empty share of the same kind */
+    for (PetscInt s = 0, at = 0; s < n[2]; s++) {
+      PetscCall(BwGeometryAddSet(g, names + at, 0, NULL));
       at += (PetscInt)strlen(names + at) + 1;
     }
-  PetscCall(PetscFree(names));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* 3D: the arrays the 2D geometry does not have, and those of other widths. */
-static PetscErrorCode BwGeometryBcast3D(BwGeometry g, const PetscInt n[7])
-{
-  PetscMPIInt rank;
-  PetscInt    m[3] = {g->face_offsets ? g->face_offsets[g->nblocks] : 0, 0, g->poly_offsets ? g->poly_offsets[g->ninterfaces] : 0};
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
-  if (!rank) m[1] = g->face_voffsets[m[0]];
-  PetscCallMPI(MPI_Bcast(m, 3, MPIU_INT, 0, g->comm));
-  if (rank) {
-    g->dim = 3;
-    PetscCall(PetscMalloc1(3 * n[1] + 1, &g->vertices));
-    PetscCall(PetscMalloc1(3 * n[0] + 1, &g->centroid));
-    PetscCall(PetscMalloc1(n[0] + 1, &g->volume));
-    PetscCall(PetscMalloc1(n[0] + 1, &g->face_offsets));
-    PetscCall(PetscMalloc1(m[0] + 1, &g->face_voffsets));
-    PetscCall(PetscMalloc1(m[1] + 1, &g->face_vertices));
-    PetscCall(PetscMalloc1(3 * n[2] + 1, &g->center));
-    PetscCall(PetscMalloc1(9 * n[2] + 1, &g->frame));
-    PetscCall(PetscMalloc1(n[2] + 1, &g->iarea));
-    PetscCall(PetscMalloc1(n[2] + 1, &g->poly_offsets));
-    PetscCall(PetscMalloc1(3 * m[2] + 1, &g->poly));
-  }
-  PetscCallMPI(MPI_Bcast(g->vertices, (PetscMPIInt)(3 * n[1]), MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->centroid, (PetscMPIInt)(3 * n[0]), MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->volume, (PetscMPIInt)n[0], MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->face_offsets, (PetscMPIInt)(n[0] + 1), MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->face_voffsets, (PetscMPIInt)(m[0] + 1), MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->face_vertices, (PetscMPIInt)m[1], MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->center, (PetscMPIInt)(3 * n[2]), MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->frame, (PetscMPIInt)(9 * n[2]), MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->iarea, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->poly_offsets, (PetscMPIInt)(n[2] + 1), MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->poly, (PetscMPIInt)(3 * m[2]), MPIU_REAL, 0, g->comm));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* Rank 0's geometry to every other rank (whose g is still empty). */
-static PetscErrorCode BwGeometryBcast(BwGeometry g)
-{
-  PetscMPIInt rank;
-  PetscInt    n[7] = {g->nblocks, g->nvertices, g->ninterfaces, g->nsets, g->nsets ? g->setoffsets[g->nsets] : 0, g->kn ? 1 : 0, g->kt ? 1 : 0};
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
-  PetscCallMPI(MPI_Bcast(n, 7, MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(&g->depth, 1, MPIU_REAL, 0, g->comm));
-  {
-    PetscInt dim = g->volume ? 3 : 2;
-    PetscCallMPI(MPI_Bcast(&dim, 1, MPIU_INT, 0, g->comm));
-    if (dim == 3) {
-      PetscCall(BwGeometryBcast3D(g, n));
-      if (rank) {
-        g->nblocks = g->maxblocks = n[0];
-        g->nvertices = g->maxvertices = n[1];
-        g->ninterfaces = g->maxinterfaces = n[2];
-        g->nsets = g->maxsets = n[3];
-        g->maxsetblocks       = n[4];
-        PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(n[0] + 1), &g->offsets));
-        PetscCall(PetscMalloc1(2 * n[2] + 1, &g->pair));
-        PetscCall(PetscMalloc1(n[2] + 1, &g->kind));
-        if (n[5]) PetscCall(PetscMalloc1(n[2] + 1, &g->kn));
-        if (n[6]) PetscCall(PetscMalloc1(n[2] + 1, &g->kt));
-        PetscCall(PetscCalloc1(n[3] + 1, &g->setname));
-        PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(n[3] + 1), &g->setoffsets));
-        PetscCall(PetscMalloc1(n[4] + 1, &g->setblocks));
-      }
-      PetscCallMPI(MPI_Bcast(g->offsets, (PetscMPIInt)(n[0] + 1), MPIU_INT, 0, g->comm));
-      PetscCallMPI(MPI_Bcast(g->pair, (PetscMPIInt)(2 * n[2]), MPIU_INT, 0, g->comm));
-      PetscCall(BwGeometryBcastCommon(g, n));
-      PetscFunctionReturn(PETSC_SUCCESS);
+    if (n[3] == 3) {
+      g->dim = 3;
+      PetscCall(PetscCalloc1(1, &g->volume));
+      PetscCall(PetscCalloc1(1, &g->face_offsets));
+      PetscCall(PetscCalloc1(1, &g->face_voffsets));
+      PetscCall(PetscCalloc1(1, &g->poly_offsets));
     }
   }
-  if (rank) {
-    g->nblocks = g->maxblocks = n[0];
-    g->nvertices = g->maxvertices = n[1];
-    g->ninterfaces = g->maxinterfaces = n[2];
-    g->nsets = g->maxsets = n[3];
-    g->maxsetblocks       = n[4];
-    PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(n[0] + 1), &g->offsets));
-    PetscCall(PetscMalloc1(2 * n[1] + 1, &g->vertices));
-    PetscCall(PetscMalloc1(2 * n[0] + 1, &g->centroid));
-    PetscCall(PetscMalloc1(n[0] + 1, &g->area));
-    PetscCall(PetscMalloc1(2 * n[2] + 1, &g->pair));
-    PetscCall(PetscMalloc1(2 * n[2] + 1, &g->center));
-    PetscCall(PetscMalloc1(n[2] + 1, &g->angle));
-    PetscCall(PetscMalloc1(n[2] + 1, &g->length));
-    PetscCall(PetscMalloc1(n[2] + 1, &g->kind));
-    if (n[5]) PetscCall(PetscMalloc1(n[2] + 1, &g->kn));
-    if (n[6]) PetscCall(PetscMalloc1(n[2] + 1, &g->kt));
-    PetscCall(PetscCalloc1(n[3] + 1, &g->setname));
-    PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(n[3] + 1), &g->setoffsets));
-    PetscCall(PetscMalloc1(n[4] + 1, &g->setblocks));
-  }
-  PetscCallMPI(MPI_Bcast(g->offsets, (PetscMPIInt)(n[0] + 1), MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->vertices, (PetscMPIInt)(2 * n[1]), MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->centroid, (PetscMPIInt)(2 * n[0]), MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->area, (PetscMPIInt)n[0], MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->pair, (PetscMPIInt)(2 * n[2]), MPIU_INT, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->center, (PetscMPIInt)(2 * n[2]), MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->angle, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
-  PetscCallMPI(MPI_Bcast(g->length, (PetscMPIInt)n[2], MPIU_REAL, 0, g->comm));
-  PetscCall(BwGeometryBcastCommon(g, n));
+  PetscCall(PetscFree(names));
+  PetscCall(BwGeometrySetShare(g, rank ? 0 : n[0]));
+  g->ninterfaces_global = n[1];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -711,7 +616,7 @@ static PetscErrorCode BwFileGenerate(BwGenerator gen, BwGeometry g, BwScene scen
     PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, 0, g->comm));
     SETERRQ(g->comm, (PetscErrorCode)err, "%s", msg);
   }
-  PetscCall(BwGeometryBcast(g));
+  PetscCall(BwGeometryShareFromRankZero(g));
   /* the file decides the dimension; a scene that says otherwise is wrong */
   {
     PetscInt have = g->volume ? 3 : 2;

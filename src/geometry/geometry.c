@@ -83,10 +83,18 @@ PetscErrorCode BwGeometryDestroy(BwGeometry *geom)
   }
   PetscCall(PetscFree(g->scenesets));
   PetscCall(PetscFree(g->kt));
+  PetscCall(PetscFree(g->gblock));
+  PetscCall(PetscFree(g->block_rank));
+  PetscCall(PetscFree(g->block_rindex));
+  PetscCall(PetscFree(g->gvoffset));
+  PetscCall(PetscFree(g->giface));
+  PetscCall(PetscFree(g->gpoly_offset));
   for (PetscInt s = 0; s < g->nsets; s++) PetscCall(PetscFree(g->setname[s]));
   PetscCall(PetscFree(g->setname));
   PetscCall(PetscFree(g->setoffsets));
   PetscCall(PetscFree(g->setblocks));
+  PetscCall(PetscFree(g->setpos));
+  PetscCall(PetscFree(g->setsize_global));
   PetscCall(PetscFree(*geom));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -150,6 +158,13 @@ PetscErrorCode BwGeometryAddInterface(BwGeometry g, PetscInt i, PetscInt j, cons
 
 PetscErrorCode BwGeometryAddSet(BwGeometry g, const char name[], PetscInt n, const PetscInt blocks[])
 {
+  PetscFunctionBeginUser;
+  PetscCall(BwGeometryAddSetAt(g, name, n, blocks, NULL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGeometryAddSetAt(BwGeometry g, const char name[], PetscInt n, const PetscInt blocks[], const PetscInt pos[])
+{
   PetscInt have = g->setoffsets[g->nsets];
 
   PetscFunctionBeginUser;
@@ -162,10 +177,12 @@ PetscErrorCode BwGeometryAddSet(BwGeometry g, const char name[], PetscInt n, con
   if (have + n > g->maxsetblocks) {
     PetscInt nb = PetscMax(2 * g->maxsetblocks, PetscMax(have + n, 16));
     PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)nb, &g->setblocks));
+    PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)nb, &g->setpos));
     g->maxsetblocks = nb;
   }
   PetscCall(PetscStrallocpy(name, &g->setname[g->nsets]));
   PetscCall(PetscArraycpy(g->setblocks + have, blocks, n));
+  for (PetscInt q = 0; q < n; q++) g->setpos[have + q] = pos ? pos[q] : -1;
   g->nsets++;
   g->setoffsets[g->nsets] = have + n;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -194,6 +211,80 @@ PetscErrorCode BwGeometryGetSetNames(BwGeometry g, char buf[], size_t len)
     if (s) PetscCall(PetscStrlcat(buf, ", ", len));
     PetscCall(PetscStrlcat(buf, g->setname[s], len));
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+void BwGeometrySplit(MPI_Comm comm, PetscInt n, PetscInt *start, PetscInt *end)
+{
+  PetscMPIInt size, rank;
+
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  *start = (PetscInt)(((PetscInt64)n * rank) / size);
+  *end   = (PetscInt)(((PetscInt64)n * (rank + 1)) / size);
+}
+
+PetscErrorCode BwGeometrySetShare(BwGeometry g, PetscInt nlocal)
+{
+  PetscInt start = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Exscan(&nlocal, &start, 1, MPIU_INT, MPI_SUM, g->comm));
+  {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(g->comm, &rank));
+    if (!rank) start = 0; /* MPI_Exscan leaves rank 0's undefined */
+  }
+  g->block_start = start;
+  PetscCallMPI(MPIU_Allreduce(&nlocal, &g->nblocks_global, 1, MPIU_INT, MPI_SUM, g->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscInt BwGeometryLocalBlock(BwGeometry g, PetscInt gid)
+{
+  PetscInt at;
+
+  if (!g->distributed) return gid >= g->block_start && gid < g->block_start + g->nblocks ? gid - g->block_start : -1;
+  /* owned, then ghosts: each part ascending */
+  PetscFindInt(gid, g->nown_blocks, g->gblock, &at);
+  if (at >= 0) return at;
+  PetscFindInt(gid, g->nblocks - g->nown_blocks, g->gblock + g->nown_blocks, &at);
+  return at >= 0 ? g->nown_blocks + at : -1;
+}
+
+PetscErrorCode BwGeometryBoundingBox(BwGeometry g, PetscReal lo[3], PetscReal hi[3])
+{
+  PetscReal l[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, h[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, PETSC_MIN_REAL};
+  const PetscInt d = g->dim;
+
+  PetscFunctionBeginUser;
+  for (PetscInt v = 0; v < g->offsets[g->nblocks]; v++)
+    for (PetscInt c = 0; c < d; c++) {
+      l[c] = PetscMin(l[c], g->vertices[d * v + c]);
+      h[c] = PetscMax(h[c], g->vertices[d * v + c]);
+    }
+  if (d == 2) l[2] = h[2] = 0;
+  PetscCallMPI(MPIU_Allreduce(l, lo, 3, MPIU_REAL, MPIU_MIN, g->comm));
+  PetscCallMPI(MPIU_Allreduce(h, hi, 3, MPIU_REAL, MPIU_MAX, g->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGeometrySetFirst(BwGeometry g, PetscInt s, PetscInt *gfirst, PetscInt *local)
+{
+  PetscInt mine = PETSC_MAX_INT, at = -1;
+
+  PetscFunctionBeginUser;
+  PetscCheck(g->distributed, g->comm, PETSC_ERR_ORDER, "BwGeometrySetFirst needs the local piece");
+  for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++) {
+    PetscInt b = g->setblocks[q], gid = g->gblock[b];
+    if (gid < mine) {
+      mine = gid;
+      at   = b;
+    }
+  }
+  PetscCallMPI(MPIU_Allreduce(&mine, gfirst, 1, MPIU_INT, MPI_MIN, g->comm));
+  *local = *gfirst == mine ? at : -1;
+  if (*gfirst == PETSC_MAX_INT) *gfirst = -1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -256,6 +347,9 @@ PetscErrorCode BwGeometrySetFromOptions(BwGeometry g, BwScene scene)
     PetscCall(PetscFree(list));
     PetscCall(BwSceneError(scene, "-geometry_generator", "must be one of %s, got '%s'", names, generator));
   }
+  PetscCall(BwSceneHelpSection(scene, "Partition (scene key partition.*; more than one rank)"));
+  PetscCall(BwSceneRequireMapping(scene, "-partition", "method"));
+  PetscCall(BwSceneEnum(scene, "-partition_method", "How the blocks are shared among the ranks: auto (graph where this PETSc has a parallel graph partitioner, else natural), natural (each rank a range of the input's block order, as the generator or file gives it), graph (PETSc's MatPartitioning on the block graph, PT-Scotch by default; its options under -partition_mat_partitioning_*)", 3, BwPartitionMethods, &g->partition, NULL));
   PetscCall(PetscNew(&g->generator));
   PetscCall((*create)(g->generator));
   PetscCall(g->generator->setfromoptions(g->generator, g, scene));
@@ -341,13 +435,13 @@ PetscErrorCode BwGeometrySceneSetsFromOptions(BwGeometry g, BwScene scene)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The scene's sets, made once the blocks exist: a name the generator or
- * the file already gave, an empty box, an index past the last block are
- * errors naming the key. */
+/* The scene's sets, made on the D0 share once the blocks exist: a name the
+ * generator or the file already gave, an empty box, an index past the last
+ * block are errors naming the key (collective: every rank sees the same). */
 static PetscErrorCode BwGeometryMakeSceneSets(BwGeometry g, BwScene scene)
 {
-  PetscReal lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, 0}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, 0}, tol;
-  PetscInt *found, dim = g->dim;
+  PetscReal lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, 0}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, 0}, glo[3], ghi[3], tol;
+  PetscInt *found, *pos, dim = g->dim;
 
   PetscFunctionBeginUser;
   if (!g->nscenesets) PetscFunctionReturn(PETSC_SUCCESS);
@@ -356,19 +450,20 @@ static PetscErrorCode BwGeometryMakeSceneSets(BwGeometry g, BwScene scene)
       lo[d] = PetscMin(lo[d], g->centroid[dim * b + d]);
       hi[d] = PetscMax(hi[d], g->centroid[dim * b + d]);
     }
+  PetscCallMPI(MPIU_Allreduce(lo, glo, 3, MPIU_REAL, MPIU_MIN, g->comm));
+  PetscCallMPI(MPIU_Allreduce(hi, ghi, 3, MPIU_REAL, MPIU_MAX, g->comm));
   /* a centroid on the box's edge as written (0.3) may be computed a few ulps
    * outside it (0.30000000000000004): the closed box is widened by round-off */
-  tol = 1e-12 * (PetscAbsReal(hi[0] - lo[0]) + PetscAbsReal(hi[1] - lo[1]) + PetscAbsReal(lo[0]) + PetscAbsReal(lo[1]));
-  PetscCall(PetscMalloc1(g->nblocks, &found));
+  tol = 1e-12 * (PetscAbsReal(ghi[0] - glo[0]) + PetscAbsReal(ghi[1] - glo[1]) + PetscAbsReal(glo[0]) + PetscAbsReal(glo[1]));
+  PetscCall(PetscMalloc2(g->nblocks + 1, &found, g->nblocks + 1, &pos));
   for (PetscInt k = 0; k < g->nscenesets; k++) {
     struct _n_BwSceneSet *set = &g->scenesets[k];
-    PetscInt              s, nf = 0;
+    PetscInt              s, nf = 0, total;
 
     PetscCall(BwGeometryFindSet(g, set->name, &s));
     if (s >= 0) {
-      char opt[PETSC_MAX_OPTION_NAME + 1];
+      char opt[PETSC_MAX_OPTION_NAME + 1], have[1024];
       PetscCall(PetscSNPrintf(opt, sizeof(opt), "-sets_%s", set->name));
-      char have[1024];
       PetscCall(BwGeometryGetSetNames(g, have, sizeof(have)));
       PetscCall(BwSceneError(scene, opt, "set '%s' is already a set of the geometry (%s): a scene set needs a name of its own", set->name, have));
     }
@@ -377,31 +472,43 @@ static PetscErrorCode BwGeometryMakeSceneSets(BwGeometry g, BwScene scene)
       for (PetscInt b = 0; b < g->nblocks; b++) {
         const PetscReal *c = &g->centroid[dim * b];
         PetscReal        z = dim == 3 ? c[2] : 0;
-        if (c[0] >= q[0] - tol && c[0] <= q[3] + tol && c[1] >= q[1] - tol && c[1] <= q[4] + tol && z >= q[2] - tol && z <= q[5] + tol) found[nf++] = b;
+        if (c[0] >= q[0] - tol && c[0] <= q[3] + tol && c[1] >= q[1] - tol && c[1] <= q[4] + tol && z >= q[2] - tol && z <= q[5] + tol) {
+          pos[nf]     = -1; /* ascending global id */
+          found[nf++] = g->block_start + b;
+        }
       }
-      if (!nf) {
+      PetscCallMPI(MPIU_Allreduce(&nf, &total, 1, MPIU_INT, MPI_SUM, g->comm));
+      if (!total) {
         if (q[2] > PETSC_MIN_REAL)
-          PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g, %g, %g] (centroids span [%g, %g, %g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[2], (double)q[3], (double)q[4], (double)q[5], (double)lo[0], (double)lo[1], (double)lo[2], (double)hi[0], (double)hi[1], (double)hi[2]));
-        PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g] (centroids span [%g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[3], (double)q[4], (double)lo[0], (double)lo[1], (double)hi[0], (double)hi[1]));
+          PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g, %g, %g] (centroids span [%g, %g, %g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[2], (double)q[3], (double)q[4], (double)q[5], (double)glo[0], (double)glo[1], (double)glo[2], (double)ghi[0], (double)ghi[1], (double)ghi[2]));
+        PetscCall(BwSceneError(scene, set->option, "set '%s' is empty: no block's centroid lies in the box [%g, %g, %g, %g] (centroids span [%g, %g, %g, %g])", set->name, (double)q[0], (double)q[1], (double)q[3], (double)q[4], (double)glo[0], (double)glo[1], (double)ghi[0], (double)ghi[1]));
       }
     } else {
-      /* where each block was listed first (-1: not yet): linear in the
-       * list, however long */
-      PetscInt *first;
-      PetscCall(PetscMalloc1(g->nblocks, &first));
-      for (PetscInt b = 0; b < g->nblocks; b++) first[b] = -1;
+      /* the list is the scene's, the same on every rank: checked whole
+       * (sorted, so linear-logarithmic however long), and each rank keeps
+       * the members of its range, at their places in the list */
+      PetscInt *sorted, *at;
+      PetscCall(PetscMalloc2(set->n, &sorted, set->n, &at));
       for (PetscInt q = 0; q < set->n; q++) {
         const PetscInt b = set->blocks[q];
-        if (b >= g->nblocks) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " (element %" PetscInt_FMT "), but the geometry has %" PetscInt_FMT " blocks (0 to %" PetscInt_FMT ")", b, q + 1, g->nblocks, g->nblocks - 1));
-        if (first[b] >= 0) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " twice (elements %" PetscInt_FMT " and %" PetscInt_FMT ")", b, first[b] + 1, q + 1));
-        first[b]    = q;
+        if (b >= g->nblocks_global) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " (element %" PetscInt_FMT "), but the geometry has %" PetscInt_FMT " blocks (0 to %" PetscInt_FMT ")", b, q + 1, g->nblocks_global, g->nblocks_global - 1));
+        sorted[q] = b;
+        at[q]     = q;
+      }
+      PetscCall(PetscSortIntWithArray(set->n, sorted, at));
+      for (PetscInt q = 1; q < set->n; q++)
+        if (sorted[q] == sorted[q - 1]) PetscCall(BwSceneError(scene, set->option, "lists block %" PetscInt_FMT " twice (elements %" PetscInt_FMT " and %" PetscInt_FMT ")", sorted[q], PetscMin(at[q], at[q - 1]) + 1, PetscMax(at[q], at[q - 1]) + 1));
+      PetscCall(PetscFree2(sorted, at));
+      for (PetscInt q = 0; q < set->n; q++) {
+        const PetscInt b = set->blocks[q];
+        if (b < g->block_start || b >= g->block_start + g->nblocks) continue;
+        pos[nf]     = q;
         found[nf++] = b;
       }
-      PetscCall(PetscFree(first));
     }
-    PetscCall(BwGeometryAddSet(g, set->name, nf, found));
+    PetscCall(BwGeometryAddSetAt(g, set->name, nf, found, pos));
   }
-  PetscCall(PetscFree(found));
+  PetscCall(PetscFree2(found, pos));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -409,6 +516,7 @@ PetscErrorCode BwGeometrySetUp(BwGeometry g, BwScene scene, PetscReal thickness)
 {
   PetscFunctionBeginUser;
   PetscCall(g->generator->generate(g->generator, g, scene, thickness));
+  PetscCheck(g->nblocks_global > 0, g->comm, PETSC_ERR_PLIB, "the generator did not set its share (BwGeometrySetShare)");
   /* a generator gives polygons (extruded here in 3D); a 3D file gives
    * polyhedra with their volumes and centroids */
   if (!g->volume) {

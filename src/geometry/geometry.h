@@ -1,13 +1,22 @@
 /* BwGeometry: the blocks (polygons, centroids, areas), the interfaces between
  * them (i, j, centre G, angle, length) and named block sets.
  *
- * The geometry is replicated on every rank: it is a few hundred bytes per
- * block, generation is O(N) and deterministic, and every rank then knows the
- * neighbours of what it owns without communication. Generators fill it; they
- * are registered by name in a PetscFunctionList (geometry.generator): each
- * reads its keys first (BwGeometrySetFromOptions, before any work, so that
- * every key is known and checked before a large assembly is generated),
- * then generates (BwGeometrySetUp). */
+ * No rank holds the whole assembly. A generator fills each rank's share of
+ * it (its "D0 share": a contiguous range of global block ids, and the
+ * interfaces whose first block is in that range, with pair[] in global ids);
+ * BwGeometryDistribute then partitions the block graph (more than one rank),
+ * moves blocks and interfaces to their owners and adds the ghosts, so that
+ * each rank ends with its "local piece": the blocks it owns, every interface
+ * touching one of them and the other blocks of those interfaces, all in
+ * local indices, with their global ids (gblock, giface) for the output,
+ * which is in input order whatever the number of ranks. One rank's share is
+ * the whole assembly and nothing moves. (docs/contributing.md, "Distributed
+ * geometry", states the contract between generators and the distribution.)
+ *
+ * Generators are registered by name in a PetscFunctionList
+ * (geometry.generator): each reads its keys first (BwGeometrySetFromOptions,
+ * before any work, so that every key is known and checked before a large
+ * assembly is generated), then generates its share (BwGeometrySetUp). */
 #pragma once
 #include <petscsys.h>
 #include "scene/scene.h"
@@ -21,16 +30,30 @@ struct _n_BwGeometry {
   MPI_Comm   comm;
   PetscInt   dim;   /* 2 (polygons in X1-X2, depth s along X3) | 3 */
   PetscReal  depth; /* s [m] */
-  /* blocks */
-  PetscInt   nblocks;
+  PetscBool  distributed; /* the local piece (BwGeometryDistribute) rather than the D0 share */
+  PetscInt   partition;   /* partition.method: a BwPartitionMethod */
+  /* blocks: the D0 share, global ids block_start.. block_start + nblocks - 1;
+   * or the local piece, the nown_blocks owned ones first, then the ghosts,
+   * each part ascending in global id */
+  PetscInt     nblocks;
+  PetscInt     nblocks_global, block_start;
+  PetscInt     nown_blocks;
+  PetscInt    *gblock;       /* local piece: global id of each local block */
+  PetscMPIInt *block_rank;   /* local piece: owner rank */
+  PetscInt    *block_rindex; /* local piece: index in the owner's local arrays */
+  PetscInt    *gvoffset;     /* local piece: global first vertex row (/blocks/vertices) */
+  PetscInt     nvertices_global;
   PetscInt  *offsets;  /* nblocks+1: block b has vertices offsets[b]..offsets[b+1]-1 */
   PetscReal *vertices; /* 2 per vertex, counter-clockwise */
   PetscReal *centroid; /* 2 per block */
   PetscReal *area;     /* per block (2D: of the polygon; 3D: NULL) */
   PetscReal *volume;   /* 3D: per block */
-  /* interfaces */
-  PetscInt     ninterfaces;
-  PetscInt    *pair;   /* 2 per interface: blocks i < j, n points from i into j */
+  /* interfaces: the D0 share's (first block in its range; pair[] global
+   * ids), or the local piece's (every interface touching an owned block,
+   * ascending in global id; pair[] local indices) */
+  PetscInt     ninterfaces, ninterfaces_global;
+  PetscInt    *giface; /* global id of each (D0: NULL means numbered rank after rank) */
+  PetscInt    *pair;   /* 2 per interface: blocks i < j (global ids), n points from i into j */
   PetscReal   *center; /* 2 per interface: G */
   PetscReal   *angle;  /* theta [rad] of the tangent t */
   PetscReal   *length; /* l [m] */
@@ -42,17 +65,24 @@ struct _n_BwGeometry {
   PetscReal *iarea;        /* per interface: area A of its polygon */
   PetscInt  *poly_offsets; /* ninterfaces+1 */
   PetscReal *poly;         /* 3 per vertex: the interface polygons on the mid-plane, counter-clockwise about n */
+  PetscInt  *gpoly_offset; /* local piece, 3D: global first row of each polygon in /interfaces/vertices */
+  PetscInt   npolyvertices_global;
   PetscBool  dim_given;    /* geometry.dimension was in the scene */
   PetscBool  depth_given;  /* geometry.depth was in the scene */
   /* 3D blocks' faces: block b has faces face_offsets[b]..face_offsets[b+1]-1,
    * face f the vertices face_vertices[face_voffsets[f]..face_voffsets[f+1]-1]
    * (indices into vertices), counter-clockwise seen from outside */
   PetscInt *face_offsets, *face_voffsets, *face_vertices;
-  /* named block sets, CSR */
+  /* named block sets: every name on every rank, in one order; the members
+   * of this rank's share (D0: global ids) or piece (owned and ghost members,
+   * local indices), CSR */
   PetscInt   nsets;
   char     **setname;
   PetscInt  *setoffsets; /* nsets+1 */
   PetscInt  *setblocks;
+  PetscInt  *setpos;         /* per member: its row in the set's list as written (/sets/NAME), -1 for a
+                              * ghost; D0: NULL means ascending global id */
+  PetscInt  *setsize_global; /* per set */
   BwGenerator generator;
   /* sets defined in the scene (sets.NAME.box | sets.NAME.blocks), read with
    * the keys and made once the blocks exist */
@@ -75,6 +105,25 @@ struct _n_BwGenerator {
 typedef PetscErrorCode (*BwGeneratorCreate)(BwGenerator gen);
 
 PetscErrorCode BwGeometryCreate(MPI_Comm comm, BwGeometry *geom);
+/* A generator's D0 share: this rank's `nlocal` blocks follow the lower
+ * ranks' (sets block_start and nblocks_global, collective). */
+PetscErrorCode BwGeometrySetShare(BwGeometry geom, PetscInt nlocal);
+/* The balanced split of n items over the ranks: this rank's [start, end). */
+void BwGeometrySplit(MPI_Comm comm, PetscInt n, PetscInt *start, PetscInt *end);
+/* D0 share -> local piece (distribute.c, collective): the partition
+ * (`method`: natural keeps the D0 share's blocks; graph partitions the block
+ * graph with PETSc's MatPartitioning, options prefix -partition_), the
+ * blocks and interfaces moved to their owners, the ghosts, local indices. */
+typedef enum { BW_PARTITION_AUTO = 0, BW_PARTITION_NATURAL = 1, BW_PARTITION_GRAPH = 2 } BwPartitionMethod;
+extern const char *const BwPartitionMethods[];
+PetscErrorCode BwGeometryDistribute(BwGeometry geom, BwPartitionMethod method);
+/* Local piece: the global sums/extremes a rank cannot see alone. */
+PetscErrorCode BwGeometryBoundingBox(BwGeometry geom, PetscReal lo[3], PetscReal hi[3]);
+/* Local piece: the smallest global id among the members of set s on every
+ * rank, and its local index here (-1 where it is not local). */
+PetscErrorCode BwGeometrySetFirst(BwGeometry geom, PetscInt s, PetscInt *gfirst, PetscInt *local);
+/* Local piece: the local index of global block `gid`, -1 if not local. */
+PetscInt BwGeometryLocalBlock(BwGeometry geom, PetscInt gid);
 PetscErrorCode BwGeometryRegister(const char name[], BwGeneratorCreate create);
 /* Reads geometry.generator, geometry.depth and the generator's keys. */
 PetscErrorCode BwGeometrySetFromOptions(BwGeometry geom, BwScene scene);
@@ -89,7 +138,12 @@ PetscErrorCode BwGeometryDestroy(BwGeometry *geom);
 PetscErrorCode BwGeometryAddBlock(BwGeometry geom, PetscInt nv, const PetscReal xy[], PetscInt *b);
 PetscErrorCode BwGeometryAddRectangle(BwGeometry geom, PetscReal x0, PetscReal y0, PetscReal x1, PetscReal y1, PetscInt *b);
 PetscErrorCode BwGeometryAddInterface(BwGeometry geom, PetscInt i, PetscInt j, const PetscReal center[2], PetscReal angle, PetscReal length, BwJointKind kind);
+/* A set of the D0 share: its members in this rank's range (global ids);
+ * every rank adds every set, in the same order, members or not. pos: each
+ * member's row in the set's list as written, or NULL (BwGeometryAddSet):
+ * ascending global id. */
 PetscErrorCode BwGeometryAddSet(BwGeometry geom, const char name[], PetscInt n, const PetscInt blocks[]);
+PetscErrorCode BwGeometryAddSetAt(BwGeometry geom, const char name[], PetscInt n, const PetscInt blocks[], const PetscInt pos[]);
 /* Centroids and areas from the polygons (shoelace formula). */
 PetscErrorCode BwGeometryComputeCentroids(BwGeometry geom);
 /* A 2D geometry extruded along X3 over [0, depth] into a 3D one: prisms in

@@ -19,16 +19,20 @@
  * join neighbours in a course (length h_u, n from left to right, theta =
  * -pi/2); bed joints join blocks of adjacent rows over their x-overlap, found
  * by one merge sweep of the two rows' sorted intervals (n upwards, theta = 0).
- * Everything is O(N). Interfaces are emitted sorted by (i, j).
+ * Interfaces are emitted sorted by (i, j). Each rank makes only its share
+ * (BwRunningBondGenerate): O(N / ranks) blocks and interfaces, O(courses)
+ * to count the rows.
  * Block order: foundation, courses bottom to top each from the left, top beam. */
 #include "geometry/geometry.h"
 #include "util/compat.h"
 #include "util/log.h"
 
 typedef struct {
-  PetscInt  first, n;  /* block indices first..first+n-1, left to right */
-  PetscReal y0, y1;    /* extent of the row */
-  PetscReal *x0, *x1;  /* extents of its blocks */
+  PetscInt   first, n;   /* global block ids first..first+n-1, left to right */
+  PetscInt   course;     /* its course, -1 for the foundation and the top beam */
+  PetscReal  y0, y1;     /* extent of the row */
+  PetscReal *x0, *x1;    /* extents of its blocks */
+  PetscBool *splitnext;  /* a block's right neighbour is its unit's other half */
 } BwRow;
 
 /* Bed joints between row `lo` (below) and row `hi` (above); collects the
@@ -147,158 +151,217 @@ PetscErrorCode BwGeneratorCreate_RunningBond(BwGenerator gen)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Piece p (left to right) of course k: its extent and whether it is a full
+ * unit. A half unit first in odd courses, last in even courses of a
+ * half-integer n or odd courses of a whole n; positions by formula, not
+ * accumulated, so that the same wall is the same to the last bit. */
+static void BwCoursePiece(const BwRunningBond *o, PetscReal e, PetscReal L, PetscInt k, PetscInt p, PetscReal *x0, PetscReal *x1, PetscBool *full)
+{
+  const PetscReal lu = o->lu, half = 0.5 * (o->lu - e);
+  const PetscBool odd = k % 2 ? PETSC_TRUE : PETSC_FALSE;
+  const PetscInt  nu  = o->half ? o->n + 1 : (odd ? o->n + 1 : o->n);
+
+  *full = PETSC_TRUE;
+  if (odd && p == 0) {
+    *x0   = 0;
+    *x1   = half;
+    *full = PETSC_FALSE;
+  } else if (p == nu - 1 && (o->half ? !odd : odd)) {
+    *x0   = L - half;
+    *x1   = L;
+    *full = PETSC_FALSE;
+  } else if (odd) {
+    *x0 = half + e + (p - 1) * (lu + e);
+    *x1 = *x0 + lu;
+  } else {
+    *x0 = p * (lu + e);
+    *x1 = *x0 + lu;
+  }
+}
+
+static PetscInt BwCoursePieces(const BwRunningBond *o, PetscInt k)
+{
+  return o->half ? o->n + 1 : (k % 2 ? o->n + 1 : o->n);
+}
+
+/* Whether an opening leaves out the piece [x0, x1] of course k. */
+static PetscBool BwInOpening(const BwRunningBond *o, PetscReal e, PetscInt k, PetscReal x0, PetscReal x1)
+{
+  const PetscReal y0 = k * (o->hu + e), cx = 0.5 * (x0 + x1), cy = y0 + 0.5 * o->hu;
+  for (PetscInt q = 0; q < o->nopen; q++) {
+    const PetscReal *box = &o->openings[4 * q];
+    if (cx >= box[0] && cx <= box[2] && cy >= box[1] && cy <= box[3]) return PETSC_TRUE;
+  }
+  return PETSC_FALSE;
+}
+
+/* Blocks in course k: by formula, unless an opening spans its height, when
+ * its pieces are counted one by one. */
+static PetscInt BwCourseBlocks(const BwRunningBond *o, PetscReal e, PetscReal L, PetscInt k)
+{
+  const PetscInt  nu = BwCoursePieces(o, k), halves = o->half ? 1 : (k % 2 ? 2 : 0);
+  const PetscReal cy = k * (o->hu + e) + 0.5 * o->hu;
+  PetscBool       cut = PETSC_FALSE;
+  PetscInt        n = 0;
+
+  for (PetscInt q = 0; q < o->nopen && !cut; q++) cut = cy >= o->openings[4 * q + 1] && cy <= o->openings[4 * q + 3] ? PETSC_TRUE : PETSC_FALSE;
+  if (!cut) return o->split ? nu + (nu - halves) : nu;
+  for (PetscInt p = 0; p < nu; p++) {
+    PetscReal x0, x1;
+    PetscBool full;
+    BwCoursePiece(o, e, L, k, p, &x0, &x1, &full);
+    if (!BwInOpening(o, e, k, x0, x1)) n += o->split && full ? 2 : 1;
+  }
+  return n;
+}
+
+/* Row r's blocks (foundation, courses, top beam), with their global ids
+ * from first. */
+static PetscErrorCode BwRowBuild(const BwRunningBond *o, PetscReal e, PetscReal L, PetscInt r, PetscInt nrows, PetscInt first, BwRow *row)
+{
+  const PetscBool foundation = o->foundation, top_beam = o->top_beam;
+  const PetscInt  courses = o->courses;
+
+  PetscFunctionBeginUser;
+  row->first  = first;
+  row->n      = 0;
+  row->course = -1;
+  if (foundation && r == 0) {
+    row->y0 = -e - o->hf;
+    row->y1 = -e;
+    PetscCall(PetscMalloc3(1, &row->x0, 1, &row->x1, 1, &row->splitnext));
+    row->x0[0]        = 0;
+    row->x1[0]        = L;
+    row->splitnext[0] = PETSC_FALSE;
+    row->n            = 1;
+  } else if (top_beam && r == nrows - 1) {
+    PetscReal ytop = (courses - 1) * (o->hu + e) + o->hu;
+    row->y0        = ytop + e;
+    row->y1        = ytop + e + o->hb;
+    PetscCall(PetscMalloc3(1, &row->x0, 1, &row->x1, 1, &row->splitnext));
+    row->x0[0]        = 0;
+    row->x1[0]        = L;
+    row->splitnext[0] = PETSC_FALSE;
+    row->n            = 1;
+  } else {
+    const PetscInt k = r - (foundation ? 1 : 0), nu = BwCoursePieces(o, k), most = o->split ? 2 * nu : nu;
+    row->course = k;
+    row->y0     = k * (o->hu + e);
+    row->y1     = row->y0 + o->hu;
+    PetscCall(PetscMalloc3(most, &row->x0, most, &row->x1, most, &row->splitnext));
+    for (PetscInt p = 0; p < nu; p++) {
+      PetscReal x0, x1;
+      PetscBool full;
+      BwCoursePiece(o, e, L, k, p, &x0, &x1, &full);
+      if (BwInOpening(o, e, k, x0, x1)) continue;
+      if (o->split && full) {
+        /* the unit's two halves, no gap between them */
+        const PetscReal xm = x0 + 0.5 * o->lu;
+        row->x0[row->n]          = x0;
+        row->x1[row->n]          = xm;
+        row->splitnext[row->n++] = PETSC_TRUE;
+        row->x0[row->n]          = xm;
+        row->x1[row->n]          = x1;
+        row->splitnext[row->n++] = PETSC_FALSE;
+      } else {
+        row->x0[row->n]          = x0;
+        row->x1[row->n]          = x1;
+        row->splitnext[row->n++] = PETSC_FALSE;
+      }
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwRowFree(BwRow *row)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree3(row->x0, row->x1, row->splitnext));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* This rank's share (geometry.h): the blocks of its range of global ids
+ * [b0, b1) (rows are numbered bottom to top, so a range is a band of
+ * courses), the interfaces whose first (lower) block is in it, from its
+ * rows and the row above, and its members of the sets. Rows are counted
+ * by formula (one by one only where an opening spans a course), so a rank
+ * builds only its own rows. */
 static PetscErrorCode BwRunningBondGenerate(BwGenerator gen, BwGeometry g, BwScene scene, PetscReal e)
 {
   const BwRunningBond *o       = (BwRunningBond *)gen->data;
-  const PetscInt       courses = o->courses, n = o->n, nopen = o->nopen;
-  const PetscReal      lu = o->lu, hu = o->hu, hf = o->hf, hb = o->hb, *openings = o->openings;
-  const PetscBool      foundation = o->foundation, top_beam = o->top_beam, split = o->split, halfn = o->half;
-  /* blocks of one course at most: n+1 pieces, each full unit two with split */
-  const PetscInt       rowmax = split ? 2 * n + 2 : n + 1;
-  PetscInt             nrows, nunits = 0, nint = 0, maxint;
+  const PetscInt       courses = o->courses, n = o->n;
+  const PetscBool      foundation = o->foundation, top_beam = o->top_beam, halfn = o->half;
+  const PetscInt       nrows = courses + (foundation ? 1 : 0) + (top_beam ? 1 : 0);
+  PetscInt            *rowfirst, N, b0, b1, rlo, rhi, nint = 0, maxint = 0;
   PetscReal            L, half, tol;
   BwRow               *rows;
-  BwPendingInterface  *pend;
-  PetscReal           *xs0, *xs1;
-  PetscBool           *splitnext; /* per row entry: its right neighbour is its unit's other half */
-  PetscInt            *units, *bottom, *top, nbottom = 0, ntop = 0;
+  BwPendingInterface  *pend = NULL;
 
   PetscFunctionBeginUser;
-  if (!(lu > e)) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_length", "must exceed the joint thickness %g so that half units (l_u - e)/2 exist, got %g", (double)e, (double)lu));
-  {
-    /* what the generator allocates, on every rank (the geometry is
-     * replicated), before it allocates it: ~0.5 KB per block */
-    PetscReal blocks = (PetscReal)courses * (PetscReal)rowmax + 2;
-    char      what[256];
-    PetscCall(PetscSNPrintf(what, sizeof(what), "geometry.running_bond: %" PetscInt_FMT " courses of %" PetscInt_FMT "%s units (%.3g blocks)", courses, n, halfn ? ".5" : "", (double)blocks));
-    PetscCall(BwMemoryRequire(g->comm, blocks * 520.0, what));
+  if (!(o->lu > e)) PetscCall(BwSceneError(scene, "-geometry_running_bond_unit_length", "must exceed the joint thickness %g so that half units (l_u - e)/2 exist, got %g", (double)e, (double)o->lu));
+  half = 0.5 * (o->lu - e);
+  L    = halfn ? n * (o->lu + e) + half : n * o->lu + (n - 1) * e;
+  tol  = 1e-9 * o->lu;
+  /* global ids: rows' first blocks */
+  PetscCall(PetscMalloc1(nrows + 1, &rowfirst));
+  rowfirst[0] = 0;
+  for (PetscInt r = 0; r < nrows; r++) {
+    PetscInt nb = (foundation && r == 0) || (top_beam && r == nrows - 1) ? 1 : BwCourseBlocks(o, e, L, r - (foundation ? 1 : 0));
+    rowfirst[r + 1] = rowfirst[r] + nb;
   }
-  half = 0.5 * (lu - e);
-  L    = halfn ? n * (lu + e) + half : n * lu + (n - 1) * e;
-  tol  = 1e-9 * lu;
-  nrows = courses + (foundation ? 1 : 0) + (top_beam ? 1 : 0);
-  PetscCall(PetscCalloc1(nrows, &rows));
-  PetscCall(PetscMalloc3(courses * rowmax + 2, &xs0, courses * rowmax + 2, &xs1, courses * rowmax + 2, &splitnext));
-  PetscCall(PetscMalloc3(courses * rowmax, &units, rowmax, &bottom, rowmax, &top));
-
-  /* blocks, row by row */
+  N = rowfirst[nrows];
+  BwGeometrySplit(g->comm, N, &b0, &b1);
   {
-    PetscInt r = 0, used = 0;
-    if (foundation) {
-      rows[r].first    = g->nblocks;
-      rows[r].n        = 1;
-      rows[r].x0       = xs0 + used;
-      rows[r].x1       = xs1 + used;
-      rows[r].y0       = -e - hf;
-      rows[r].y1       = -e;
-      splitnext[used]  = PETSC_FALSE;
-      xs0[used]        = 0;
-      xs1[used++]      = L;
-      PetscCall(BwGeometryAddRectangle(g, 0, -e - hf, L, -e, NULL));
-      r++;
-    }
-    for (PetscInt k = 0; k < courses; k++, r++) {
-      PetscReal y0 = k * (hu + e), y1 = y0 + hu;
-      PetscBool odd = k % 2 ? PETSC_TRUE : PETSC_FALSE;
-      /* pieces of the course, left to right; a half unit first in odd
-       * courses, last in even courses of a half-integer n or odd courses of
-       * a whole n; positions by formula, not accumulated, so that the same
-       * wall is the same to the last bit */
-      PetscInt  nu     = halfn ? n + 1 : (odd ? n + 1 : n);
-      rows[r].first = g->nblocks;
-      rows[r].x0    = xs0 + used;
-      rows[r].x1    = xs1 + used;
-      rows[r].y0    = y0;
-      rows[r].y1    = y1;
-      for (PetscInt p = 0; p < nu; p++) {
-        PetscReal x0, x1;
-        PetscBool open = PETSC_FALSE, full = PETSC_TRUE;
-        if (odd && p == 0) {
-          x0   = 0;
-          x1   = half;
-          full = PETSC_FALSE;
-        } else if (p == nu - 1 && (halfn ? !odd : odd)) {
-          x0   = L - half;
-          x1   = L;
-          full = PETSC_FALSE;
-        } else if (odd) {
-          x0 = half + e + (p - 1) * (lu + e);
-          x1 = x0 + lu;
-        } else {
-          x0 = p * (lu + e);
-          x1 = x0 + lu;
-        }
-        for (PetscInt q = 0; q < nopen && !open; q++) {
-          const PetscReal *box = &openings[4 * q], cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
-          open = (cx >= box[0] && cx <= box[2] && cy >= box[1] && cy <= box[3]) ? PETSC_TRUE : PETSC_FALSE;
-        }
-        if (open) continue;
-        if (split && full) {
-          /* the unit's two halves, no gap between them */
-          const PetscReal xm = x0 + 0.5 * lu;
-          const PetscReal piece[2][2] = {{x0, xm}, {xm, x1}};
-          for (int h = 0; h < 2; h++) {
-            splitnext[used] = h == 0 ? PETSC_TRUE : PETSC_FALSE;
-            xs0[used]       = piece[h][0];
-            xs1[used++]     = piece[h][1];
-            units[nunits++] = g->nblocks;
-            if (k == 0) bottom[nbottom++] = g->nblocks;
-            if (k == courses - 1) top[ntop++] = g->nblocks;
-            rows[r].n++;
-            PetscCall(BwGeometryAddRectangle(g, piece[h][0], y0, piece[h][1], y1, NULL));
-          }
-          continue;
-        }
-        splitnext[used] = PETSC_FALSE;
-        xs0[used]       = x0;
-        xs1[used++]     = x1;
-        units[nunits++] = g->nblocks;
-        if (k == 0) bottom[nbottom++] = g->nblocks;
-        if (k == courses - 1) top[ntop++] = g->nblocks;
-        rows[r].n++;
-        PetscCall(BwGeometryAddRectangle(g, x0, y0, x1, y1, NULL));
-      }
-    }
-    if (top_beam) {
-      PetscReal ytop = (courses - 1) * (hu + e) + hu;
-      rows[r].first   = g->nblocks;
-      rows[r].n       = 1;
-      rows[r].x0      = xs0 + used;
-      rows[r].x1      = xs1 + used;
-      rows[r].y0      = ytop + e;
-      rows[r].y1      = ytop + e + hb;
-      splitnext[used] = PETSC_FALSE;
-      xs0[used]       = 0;
-      xs1[used++]     = L;
-      PetscCall(BwGeometryAddRectangle(g, 0, ytop + e, L, ytop + e + hb, NULL));
-    }
+    /* what this rank allocates, before it allocates it: ~0.5 KB per block */
+    char what[256];
+    PetscCall(PetscSNPrintf(what, sizeof(what), "geometry.running_bond: %" PetscInt_FMT " courses of %" PetscInt_FMT "%s units (%" PetscInt_FMT " blocks, %" PetscInt_FMT " on this rank)", courses, n, halfn ? ".5" : "", N, b1 - b0));
+    PetscCall(BwMemoryRequire(g->comm, (PetscReal)(b1 - b0) * 520.0, what));
   }
+  /* the rows holding [b0, b1) */
+  for (rlo = 0; rlo < nrows && rowfirst[rlo + 1] <= b0; rlo++) { }
+  for (rhi = rlo; rhi < nrows && rowfirst[rhi + 1] < b1; rhi++) { }
+  if (b1 <= b0) rhi = rlo - 1; /* an empty share */
+  PetscCall(PetscCalloc1(nrows + 1, &rows));
+  for (PetscInt r = rlo; r <= rhi + 1 && r < nrows; r++) PetscCall(BwRowBuild(o, e, L, r, nrows, rowfirst[r], &rows[r]));
 
-  /* interfaces: head joints within courses, bed joints between rows */
-  maxint = 3 * g->nblocks + 2 * (rowmax + 1);
-  PetscCall(PetscMalloc1(maxint, &pend));
+  /* blocks */
+  for (PetscInt r = rlo; r <= rhi; r++)
+    for (PetscInt p = 0; p < rows[r].n; p++) {
+      PetscInt id = rows[r].first + p;
+      if (id < b0 || id >= b1) continue;
+      PetscCall(BwGeometryAddRectangle(g, rows[r].x0[p], rows[r].y0, rows[r].x1[p], rows[r].y1, NULL));
+    }
+  PetscCall(BwGeometrySetShare(g, b1 - b0));
+  PetscCheck(g->block_start == b0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "running_bond: share starts at %" PetscInt_FMT ", not %" PetscInt_FMT, g->block_start, b0);
+
+  /* interfaces whose first block is ours: head joints within our rows,
+   * bed joints from our rows up */
+  for (PetscInt r = rlo; r <= rhi; r++) maxint += 3 * rows[r].n + 2 + (r + 1 < nrows ? 2 * rows[r + 1].n + 2 : 0);
+  PetscCall(PetscMalloc1(maxint + 1, &pend));
   {
-    PetscInt (*pair)[2];
-    PetscReal(*geo)[2];
-    PetscCall(PetscMalloc2(2 * (rowmax + 1), &pair, 2 * (rowmax + 1), &geo));
-    for (PetscInt r = 0; r < nrows; r++) {
+    PetscInt (*pair)[2] = NULL;
+    PetscReal(*geo)[2]  = NULL;
+    PetscInt  most      = 0;
+    for (PetscInt r = rlo; r <= rhi; r++) most = PetscMax(most, rows[r].n + (r + 1 < nrows ? rows[r + 1].n : 0) + 1);
+    PetscCall(PetscMalloc2(most + 1, &pair, most + 1, &geo));
+    for (PetscInt r = rlo; r <= rhi; r++) {
       const BwRow *row = &rows[r];
-      PetscBool    course = !((foundation && r == 0) || (top_beam && r == nrows - 1));
-      if (course) {
-        const PetscBool *next = splitnext + (row->x0 - xs0);
+      if (row->course >= 0) {
         for (PetscInt p = 0; p + 1 < row->n; p++) {
           /* the crack inside a split unit: zero thickness; else neighbours
            * only: a unit removed by an opening breaks the joint */
-          PetscReal gap = next[p] ? 0 : e;
-          if (!next[p] && PetscAbsReal(row->x0[p + 1] - row->x1[p] - e) > tol) continue;
-          BwPendingInterface *f = &pend[nint++];
+          PetscReal           gap = row->splitnext[p] ? 0 : e;
+          BwPendingInterface *f;
+          if (row->first + p < b0 || row->first + p >= b1) continue;
+          if (!row->splitnext[p] && PetscAbsReal(row->x0[p + 1] - row->x1[p] - e) > tol) continue;
+          f         = &pend[nint++];
           f->i      = row->first + p;
           f->j      = row->first + p + 1;
           f->G[0]   = row->x1[p] + 0.5 * gap;
           f->G[1]   = 0.5 * (row->y0 + row->y1);
           f->angle  = -0.5 * PETSC_PI;
-          f->length = hu;
-          f->kind   = next[p] ? BW_JOINT_UNIT : BW_JOINT_HEAD;
+          f->length = o->hu;
+          f->kind   = row->splitnext[p] ? BW_JOINT_UNIT : BW_JOINT_HEAD;
         }
       }
       if (r + 1 < nrows) {
@@ -308,7 +371,9 @@ static PetscErrorCode BwRunningBondGenerate(BwGenerator gen, BwGeometry g, BwSce
         /* the gap between the rows, from the blocks' own coordinates */
         ygap = 0.5 * (row->y1 + rows[r + 1].y0);
         for (PetscInt q = 0; q < nbed; q++) {
-          BwPendingInterface *f = &pend[nint++];
+          BwPendingInterface *f;
+          if (pair[q][0] < b0 || pair[q][0] >= b1) continue;
+          f         = &pend[nint++];
           f->i      = pair[q][0];
           f->j      = pair[q][1];
           f->G[0]   = geo[q][0];
@@ -318,35 +383,44 @@ static PetscErrorCode BwRunningBondGenerate(BwGenerator gen, BwGeometry g, BwSce
           f->kind   = BW_JOINT_BED;
         }
       }
-      PetscCheck(nint + 2 * (rowmax + 1) <= maxint, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface estimate exceeded");
+      PetscCheck(nint <= maxint, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface estimate exceeded");
     }
     PetscCall(PetscFree2(pair, geo));
   }
   qsort(pend, (size_t)nint, sizeof(*pend), BwPendingCompare);
   for (PetscInt f = 0; f < nint; f++) PetscCall(BwGeometryAddInterface(g, pend[f].i, pend[f].j, pend[f].G, pend[f].angle, pend[f].length, pend[f].kind));
-
-  /* sets */
-  if (foundation) {
-    const PetscInt f0 = 0;
-    PetscCall(BwGeometryAddSet(g, "foundation", 1, &f0));
-  }
-  if (top_beam) {
-    const PetscInt tb = g->nblocks - 1;
-    PetscCall(BwGeometryAddSet(g, "top_beam", 1, &tb));
-  }
-  PetscCall(BwGeometryAddSet(g, "bottom_course", nbottom, bottom));
-  PetscCall(BwGeometryAddSet(g, "top_course", ntop, top));
-  PetscCall(BwGeometryAddSet(g, "units", nunits, units));
   {
-    PetscInt *all;
-    PetscCall(PetscMalloc1(g->nblocks, &all));
-    for (PetscInt b = 0; b < g->nblocks; b++) all[b] = b;
-    PetscCall(BwGeometryAddSet(g, "all", g->nblocks, all));
-    PetscCall(PetscFree(all));
+    PetscInt total;
+    PetscCallMPI(MPIU_Allreduce(&nint, &total, 1, MPIU_INT, MPI_SUM, g->comm));
+    g->ninterfaces_global = total;
   }
-  PetscCall(PetscFree(pend));
-  PetscCall(PetscFree3(units, bottom, top));
-  PetscCall(PetscFree3(xs0, xs1, splitnext));
+
+  /* sets: every rank names them all; its members are its range's */
+  {
+    PetscInt *units, *bottom, *top, *all, nu = 0, nbot = 0, ntop = 0, nall = 0, f0 = 0, tb = N - 1;
+    PetscCall(PetscMalloc4(b1 - b0 + 1, &units, b1 - b0 + 1, &bottom, b1 - b0 + 1, &top, b1 - b0 + 1, &all));
+    for (PetscInt r = rlo; r <= rhi; r++)
+      for (PetscInt p = 0; p < rows[r].n; p++) {
+        PetscInt id = rows[r].first + p;
+        if (id < b0 || id >= b1) continue;
+        all[nall++] = id;
+        if (rows[r].course < 0) continue;
+        units[nu++] = id;
+        if (rows[r].course == 0) bottom[nbot++] = id;
+        if (rows[r].course == courses - 1) top[ntop++] = id;
+      }
+    if (foundation) PetscCall(BwGeometryAddSet(g, "foundation", f0 >= b0 && f0 < b1 ? 1 : 0, &f0));
+    if (top_beam) PetscCall(BwGeometryAddSet(g, "top_beam", tb >= b0 && tb < b1 ? 1 : 0, &tb));
+    PetscCall(BwGeometryAddSet(g, "bottom_course", nbot, bottom));
+    PetscCall(BwGeometryAddSet(g, "top_course", ntop, top));
+    PetscCall(BwGeometryAddSet(g, "units", nu, units));
+    PetscCall(BwGeometryAddSet(g, "all", nall, all));
+    PetscCall(PetscFree4(units, bottom, top, all));
+  }
+  for (PetscInt r = 0; r < nrows; r++)
+    if (rows[r].x0) PetscCall(BwRowFree(&rows[r]));
   PetscCall(PetscFree(rows));
+  PetscCall(PetscFree(pend));
+  PetscCall(PetscFree(rowfirst));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -22,21 +22,27 @@ static PetscErrorCode BwTwoBlocksSetFromOptions(BwGenerator gen, BwGeometry g, B
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The share of this rank (geometry.h): its blocks of the two, and the
+ * interface where block 0 is. */
 static PetscErrorCode BwTwoBlocksGenerate(BwGenerator gen, BwGeometry g, BwScene scene, PetscReal e)
 {
   const BwTwoBlocks *o = (BwTwoBlocks *)gen->data;
   const PetscReal    l = o->l, a = o->a;
   const PetscInt     bottom = 0, top = 1;
+  PetscInt           b0, b1;
   PetscReal          G[2];
 
   PetscFunctionBeginUser;
-  PetscCall(BwGeometryAddRectangle(g, 0, 0, l, a, NULL));
-  PetscCall(BwGeometryAddRectangle(g, 0, a + e, l, 2 * a + e, NULL));
+  BwGeometrySplit(g->comm, 2, &b0, &b1);
+  if (b0 <= 0 && 0 < b1) PetscCall(BwGeometryAddRectangle(g, 0, 0, l, a, NULL));
+  if (b0 <= 1 && 1 < b1) PetscCall(BwGeometryAddRectangle(g, 0, a + e, l, 2 * a + e, NULL));
+  PetscCall(BwGeometrySetShare(g, b1 - b0));
   G[0] = l / 2;
   G[1] = a + e / 2;
-  PetscCall(BwGeometryAddInterface(g, 0, 1, G, 0.0, l, BW_JOINT_BED));
-  PetscCall(BwGeometryAddSet(g, "bottom", 1, &bottom));
-  PetscCall(BwGeometryAddSet(g, "top", 1, &top));
+  if (b0 == 0 && b1 > 0) PetscCall(BwGeometryAddInterface(g, 0, 1, G, 0.0, l, BW_JOINT_BED));
+  g->ninterfaces_global = 1;
+  PetscCall(BwGeometryAddSet(g, "bottom", b0 <= 0 && 0 < b1 ? 1 : 0, &bottom));
+  PetscCall(BwGeometryAddSet(g, "top", b0 <= 1 && 1 < b1 ? 1 : 0, &top));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -251,10 +251,13 @@ PetscErrorCode BwModelSetUp(BwModel model, BwGeometry g, BwScene scene)
   PetscCall(BwModelAllocate(model, g));
   /* head joints (unset keys as joints.*) and cracks in units (a law of their
    * own: a mortar joint's stiffness and strength mean nothing inside a unit)
-   * are read only where the geometry has them */
-  for (PetscInt k = 0; k < ni; k++) {
-    BwJointKind kind = g->kind[k];
-    if (model->law[kind]) continue;
+   * are read only where the geometry has them, on any rank */
+  {
+    PetscInt here[BW_JOINT_NKINDS] = {0, 0, 0}, any[BW_JOINT_NKINDS];
+    for (PetscInt k = 0; k < ni; k++) here[g->kind[k]] = 1;
+    PetscCallMPI(MPIU_Allreduce(here, any, BW_JOINT_NKINDS, MPIU_INT, MPI_MAX, model->comm));
+    for (int kind = 0; kind < BW_JOINT_NKINDS; kind++) {
+      if (!any[kind] || model->law[kind]) continue;
     PetscCall(BwJointLawCreate(&model->law[kind]));
     if (kind == BW_JOINT_HEAD) {
       PetscCall(BwSceneHelpSection(scene, "Head joints (scene key joints.head.*, running_bond; unset keys as joints.*)"));
@@ -264,6 +267,7 @@ PetscErrorCode BwModelSetUp(BwModel model, BwGeometry g, BwScene scene)
       PetscCall(BwSceneRequireMapping(scene, "-joints_unit", "the law of the cracks inside the units"));
       PetscCall(BwJointLawSetFromOptions(model->law[kind], scene, "joints_unit_", NULL));
     }
+    }
   }
   /* the stiffness that scales each interface's stresses: its law's elastic
    * one, or the file's own kn, kt */
@@ -271,8 +275,9 @@ PetscErrorCode BwModelSetUp(BwModel model, BwGeometry g, BwScene scene)
     const BwJointLaw law = model->law[g->kind[k]];
     model->kn[k]         = g->kn ? g->kn[k] : law->par[BW_LAW_PAR_KN];
     model->kt[k]         = g->kt ? g->kt[k] : law->par[BW_LAW_PAR_KT];
-    if (law->strength) model->nonlinear = PETSC_TRUE;
   }
+  for (int kind = 0; kind < BW_JOINT_NKINDS; kind++)
+    if (model->law[kind] && model->law[kind]->strength) model->nonlinear = PETSC_TRUE;
 
   /* discretization.m_b: 3D only */
   {
@@ -329,12 +334,19 @@ PetscErrorCode BwModelSetUp(BwModel model, BwGeometry g, BwScene scene)
       PetscCall(BwSceneRequireMapping(scene, opt, help));
       PetscCall(PetscSNPrintf(opt, sizeof(opt), "-%s", names[o]));
       PetscCall(BwSceneReal(scene, opt, "Prescribed dof of every block of the set [m or rad]", &v, NULL));
-      for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++) {
-        PetscInt b = g->setblocks[q];
-        if (model->prescribed[nd * b + c] && model->value[nd * b + c] != v)
-          PetscCall(BwSceneError(scene, opt, "prescribes %g on block %" PetscInt_FMT ", which another set already prescribes to %g", (double)v, b, (double)model->value[nd * b + c]));
-        model->prescribed[nd * b + c] = PETSC_TRUE;
-        model->value[nd * b + c]      = v;
+      {
+        PetscInt  clash = -1; /* the lowest global id prescribed twice here */
+        PetscReal other = 0;
+        for (PetscInt q = g->setoffsets[s]; q < g->setoffsets[s + 1]; q++) {
+          PetscInt b = g->setblocks[q];
+          if (model->prescribed[nd * b + c] && model->value[nd * b + c] != v && (clash < 0 || g->gblock[b] < clash)) {
+            clash = g->gblock[b];
+            other = model->value[nd * b + c];
+          }
+          model->prescribed[nd * b + c] = PETSC_TRUE;
+          model->value[nd * b + c]      = v;
+        }
+        PetscCall(BwSceneErrorAgree(scene, clash >= 0 ? PETSC_TRUE : PETSC_FALSE, opt, "prescribes %g on block %" PetscInt_FMT ", which another set already prescribes to %g", (double)v, clash, (double)other));
       }
     }
   }

@@ -40,6 +40,7 @@
 #include <string.h>
 #include "output/xdmf.h"
 #include "util/compat.h"
+#include "util/exchange.h"
 
 /* Cell type codes of XDMF (XdmfTopologyType). */
 enum { BW_XDMF_POLYGON = 0x3, BW_XDMF_TRIANGLE = 0x4, BW_XDMF_QUADRILATERAL = 0x5, BW_XDMF_POLYHEDRON = 0x10 };
@@ -62,20 +63,17 @@ static int BwXdmfCellType(BwGeometry g, PetscInt b)
 /* 3D: a block is a Polyhedron cell: its code, its number of faces, then
  * per face its number of vertices and their ids (VTK's Xdmf3 reader reads
  * it as a VTK polyhedron). An interface polygon: Triangle, Quadrilateral
- * or Polygon (with its count) as in 2D. */
-static PetscInt BwXdmfTopologyLength(BwGeometry g)
+ * or Polygon (with its count) as in 2D. The entries of local block b: */
+static PetscInt BwXdmfBlockTopologyLength(BwGeometry g, PetscInt b)
 {
   PetscInt len = 0;
 
   if (g->dim == 3) {
-    for (PetscInt b = 0; b < g->nblocks; b++) {
-      len += 2;
-      for (PetscInt f = g->face_offsets[b]; f < g->face_offsets[b + 1]; f++) len += 1 + g->face_voffsets[f + 1] - g->face_voffsets[f];
-    }
+    len = 2;
+    for (PetscInt f = g->face_offsets[b]; f < g->face_offsets[b + 1]; f++) len += 1 + g->face_voffsets[f + 1] - g->face_voffsets[f];
     return len;
   }
-  for (PetscInt b = 0; b < g->nblocks; b++) len += 1 + (BwXdmfCellType(g, b) == BW_XDMF_POLYGON) + g->offsets[b + 1] - g->offsets[b];
-  return len;
+  return 1 + (BwXdmfCellType(g, b) == BW_XDMF_POLYGON) + g->offsets[b + 1] - g->offsets[b];
 }
 
 static int BwXdmfPolygonType(PetscInt nv)
@@ -83,16 +81,11 @@ static int BwXdmfPolygonType(PetscInt nv)
   return nv == 3 ? BW_XDMF_TRIANGLE : nv == 4 ? BW_XDMF_QUADRILATERAL : BW_XDMF_POLYGON;
 }
 
-static PetscInt BwXdmfInterfaceTopologyLength(BwGeometry g)
+/* 3D: the entries of local interface k's polygon. */
+static PetscInt BwXdmfInterfaceTopologyLength(BwGeometry g, PetscInt k)
 {
-  PetscInt len = 0;
-
-  if (g->dim != 3) return 2 * g->ninterfaces;
-  for (PetscInt k = 0; k < g->ninterfaces; k++) {
-    PetscInt nv = g->poly_offsets[k + 1] - g->poly_offsets[k];
-    len += 1 + (BwXdmfPolygonType(nv) == BW_XDMF_POLYGON) + nv;
-  }
-  return len;
+  PetscInt nv = g->poly_offsets[k + 1] - g->poly_offsets[k];
+  return 1 + (BwXdmfPolygonType(nv) == BW_XDMF_POLYGON) + nv;
 }
 
 /* u + w x (x - c) of the rigid motion q = (u, w) of a block of centroid
@@ -164,11 +157,73 @@ static PetscErrorCode BwXdmfLayoutsDestroy(BwXdmfLayouts *L)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode BwXdmfLayoutCreate(BwGeometry geom, const BwMixedOwnership *own, PetscBool portions, BwXdmfLayout *L)
+{
+  const PetscInt nown = geom->nown_blocks, noi = own->nown_interfaces;
+  PetscInt      *gid, *cnt;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(L, sizeof(*L)));
+  L->sizes.dim           = geom->dim;
+  L->sizes.nblocks       = geom->nblocks_global;
+  L->sizes.nvertices     = geom->nvertices_global;
+  L->sizes.ninterfaces   = geom->ninterfaces_global;
+  L->sizes.npolyvertices = geom->dim == 3 ? geom->npolyvertices_global : 0;
+  PetscCall(PetscMalloc2(PetscMax(nown, noi) + 1, &gid, PetscMax(nown, noi) + 1, &cnt));
+  PetscCall(PetscMalloc1(nown + 1, &L->topology_start));
+  for (PetscInt b = 0; b < nown; b++) {
+    gid[b] = geom->gblock[b];
+    cnt[b] = BwXdmfBlockTopologyLength(geom, b);
+  }
+  PetscCall(BwRaggedOffsets(geom->comm, nown, gid, cnt, geom->nblocks_global, L->topology_start, &L->sizes.ntopology));
+  if (geom->dim == 3) {
+    PetscCall(PetscMalloc1(noi + 1, &L->itopology_start));
+    for (PetscInt e = 0; e < noi; e++) {
+      gid[e] = geom->giface[own->own_interfaces[e]];
+      cnt[e] = BwXdmfInterfaceTopologyLength(geom, own->own_interfaces[e]);
+    }
+    PetscCall(BwRaggedOffsets(geom->comm, noi, gid, cnt, geom->ninterfaces_global, L->itopology_start, &L->sizes.ninterface_topology));
+  } else L->sizes.ninterface_topology = 2 * geom->ninterfaces_global;
+  if (portions) {
+    BwXdmfLayouts PL;
+    PetscInt     *tcnt, np = 0;
+    PetscCall(BwXdmfLayoutsCreate(geom, own->portions, &PL));
+    PetscCall(PetscMalloc1(noi + 1, &L->ppoint_start));
+    PetscCall(PetscMalloc1(noi + 1, &L->ptopology_start));
+    PetscCall(PetscMalloc1(noi + 1, &tcnt));
+    for (PetscInt e = 0; e < noi; e++) {
+      PetscInt k = own->own_interfaces[e];
+      gid[e]     = geom->giface[k];
+      cnt[e]     = PL.points[k + 1] - PL.points[k];
+      tcnt[e]    = PL.topology[k + 1] - PL.topology[k];
+      np += BwPortionsCount(own->portions, k);
+    }
+    PetscCall(BwRaggedOffsets(geom->comm, noi, gid, cnt, geom->ninterfaces_global, L->ppoint_start, &L->sizes.nportion_points));
+    PetscCall(BwRaggedOffsets(geom->comm, noi, gid, tcnt, geom->ninterfaces_global, L->ptopology_start, &L->sizes.nportion_topology));
+    PetscCallMPI(MPIU_Allreduce(&np, &L->sizes.nportions, 1, MPIU_INT, MPI_SUM, geom->comm));
+    PetscCall(PetscFree(tcnt));
+    PetscCall(BwXdmfLayoutsDestroy(&PL));
+  }
+  PetscCall(PetscFree2(gid, cnt));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwXdmfLayoutDestroy(BwXdmfLayout *L)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(L->topology_start));
+  PetscCall(PetscFree(L->itopology_start));
+  PetscCall(PetscFree(L->ppoint_start));
+  PetscCall(PetscFree(L->ptopology_start));
+  PetscCall(PetscMemzero(L, sizeof(*L)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* 3D, the owned interfaces' portions: their polygons at G + xi t + eta b,
  * each counter-clockwise about n as the interface polygons are (so its
  * (xi, eta) order reversed, t x b = -n), as Mixed cells of their points,
- * and the interface motion at every point. */
-static PetscErrorCode BwXdmfPortionsCreate(BwGeometry geom, const BwMixedOwnership *own, const PetscReal pair[], BwXdmfData *x)
+ * and the interface motion at every point; rows from the layout. */
+static PetscErrorCode BwXdmfPortionsCreate(BwGeometry geom, const BwMixedOwnership *own, const BwXdmfLayout *XL, const PetscReal pair[], BwXdmfData *x)
 {
   const BwPortions *P = own->portions;
   BwXdmfLayouts     L;
@@ -176,8 +231,6 @@ static PetscErrorCode BwXdmfPortionsCreate(BwGeometry geom, const BwMixedOwnersh
 
   PetscFunctionBeginUser;
   PetscCall(BwXdmfLayoutsCreate(geom, P, &L));
-  x->nportion_points   = L.points[geom->ninterfaces];
-  x->nportion_topology = L.topology[geom->ninterfaces];
   for (PetscInt e = 0; e < own->nown_interfaces; e++) {
     PetscInt k = own->own_interfaces[e];
     x->nportion_rows += L.points[k + 1] - L.points[k];
@@ -187,9 +240,9 @@ static PetscErrorCode BwXdmfPortionsCreate(BwGeometry geom, const BwMixedOwnersh
   for (PetscInt e = 0; e < own->nown_interfaces; e++) {
     const PetscInt   k = own->own_interfaces[e], l = P->layout[k];
     const PetscReal *G = geom->center + 3 * k, *t = geom->frame + 9 * k, *b = t + 6;
-    PetscInt         point = L.points[k];
+    PetscInt         point = XL->ppoint_start[e];
 
-    for (PetscInt r = L.topology[k]; r < L.topology[k + 1]; r++) x->portion_topology_rows[nt + r - L.topology[k]] = r;
+    for (PetscInt r = 0; r < L.topology[k + 1] - L.topology[k]; r++) x->portion_topology_rows[nt + r] = XL->ptopology_start[e] + r;
     for (PetscInt p = P->offsets[l]; p < P->offsets[l + 1]; p++) {
       const PetscInt nv = L.voff[p + 1] - L.voff[p];
       const int      type = BwXdmfPolygonType(nv);
@@ -209,116 +262,146 @@ static PetscErrorCode BwXdmfPortionsCreate(BwGeometry geom, const BwMixedOwnersh
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The rows offsets[o]..offsets[o+1]-1 of the owned objects o = own[e]
- * (ascending), and room for 3 values a row. */
-static PetscErrorCode BwXdmfOwnedRows(PetscInt nown, const PetscInt own[], const PetscInt offsets[], PetscInt *n, PetscInt **rows, PetscReal **values)
+/* The vertex rows of the owned blocks (global, ascending) and their rigid
+ * displacements u(x). */
+static PetscErrorCode BwXdmfVertexRows(BwGeometry geom, const BwResults *res, BwXdmfData *x)
 {
+  const PetscInt nown = geom->nown_blocks, d = geom->dim;
+  PetscInt       k = 0;
+
   PetscFunctionBeginUser;
-  *n = 0;
-  for (PetscInt e = 0; e < nown; e++) *n += offsets[own[e] + 1] - offsets[own[e]];
-  PetscCall(PetscMalloc2(*n + 1, rows, 3 * *n + 1, values));
-  *n = 0;
-  for (PetscInt e = 0; e < nown; e++)
-    for (PetscInt v = offsets[own[e]]; v < offsets[own[e] + 1]; v++) (*rows)[(*n)++] = v;
+  x->nvertex_rows = geom->offsets[nown] - geom->offsets[0];
+  PetscCall(PetscMalloc2(x->nvertex_rows + 1, &x->vertex_rows, 3 * x->nvertex_rows + 1, &x->vertex_displacement));
+  for (PetscInt b = 0; b < nown; b++) {
+    const PetscReal *c = geom->centroid + d * b;
+    for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++, k++) {
+      PetscReal *out = x->vertex_displacement + 3 * k;
+      x->vertex_rows[k] = geom->gvoffset[b] + (v - geom->offsets[b]);
+      if (d == 3) {
+        out[0] = out[1] = out[2] = 0;
+        BwXdmfAddRigidMotion(res->displacement + 6 * b, c, geom->vertices + 3 * v, 1, out);
+      } else {
+        const PetscReal *u = res->displacement + 3 * b, *p = geom->vertices + 2 * v;
+        out[0]             = u[0] - u[2] * (p[1] - c[1]);
+        out[1]             = u[1] + u[2] * (p[0] - c[0]);
+        out[2]             = 0;
+      }
+    }
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* 3D: the polyhedra, the interface polygons, u + w x (x - c) at the
  * vertices of the owned blocks and the interface motion at those of the
  * owned interfaces' polygons (and portions). */
-static PetscErrorCode BwXdmfDataCreate3D(BwGeometry geom, const BwMixedOwnership *own, const BwResults *res, PetscBool portions, BwXdmfData *x)
+static PetscErrorCode BwXdmfDataCreate3D(BwGeometry geom, const BwMixedOwnership *own, const BwXdmfLayout *L, const BwResults *res, PetscBool portions, BwXdmfData *x)
 {
-  PetscInt nb = geom->nblocks, ni = geom->ninterfaces, k = 0;
+  const PetscInt nown = geom->nown_blocks;
+  PetscInt       k = 0;
 
   PetscFunctionBeginUser;
-  x->ntopology           = BwXdmfTopologyLength(geom);
-  x->ninterface_topology = BwXdmfInterfaceTopologyLength(geom);
-  PetscCall(PetscMalloc3(x->ntopology + 1, &x->topology, 1, &x->interface_points, x->ninterface_topology + 1, &x->interface_topology));
-  for (PetscInt b = 0; b < nb; b++) {
-    x->topology[k++] = BW_XDMF_POLYHEDRON;
-    x->topology[k++] = geom->face_offsets[b + 1] - geom->face_offsets[b];
+  for (PetscInt b = 0; b < nown; b++) x->ntopology_rows += BwXdmfBlockTopologyLength(geom, b);
+  PetscCall(PetscMalloc2(x->ntopology_rows + 1, &x->topology_rows, x->ntopology_rows + 1, &x->topology));
+  for (PetscInt b = 0; b < nown; b++) {
+    PetscInt r = L->topology_start[b];
+    x->topology_rows[k] = r++;
+    x->topology[k++]    = BW_XDMF_POLYHEDRON;
+    x->topology_rows[k] = r++;
+    x->topology[k++]    = geom->face_offsets[b + 1] - geom->face_offsets[b];
     for (PetscInt f = geom->face_offsets[b]; f < geom->face_offsets[b + 1]; f++) {
-      x->topology[k++] = geom->face_voffsets[f + 1] - geom->face_voffsets[f];
-      for (PetscInt v = geom->face_voffsets[f]; v < geom->face_voffsets[f + 1]; v++) x->topology[k++] = geom->face_vertices[v];
+      x->topology_rows[k] = r++;
+      x->topology[k++]    = geom->face_voffsets[f + 1] - geom->face_voffsets[f];
+      for (PetscInt v = geom->face_voffsets[f]; v < geom->face_voffsets[f + 1]; v++) {
+        x->topology_rows[k] = r++;
+        x->topology[k++]    = geom->gvoffset[b] + (geom->face_vertices[v] - geom->offsets[b]);
+      }
     }
   }
+  for (PetscInt e = 0; e < own->nown_interfaces; e++) x->ninterface_topology_rows += BwXdmfInterfaceTopologyLength(geom, own->own_interfaces[e]);
+  PetscCall(PetscMalloc2(x->ninterface_topology_rows + 1, &x->interface_topology_rows, x->ninterface_topology_rows + 1, &x->interface_topology));
   k = 0;
-  for (PetscInt i = 0; i < ni; i++) {
-    PetscInt nv = geom->poly_offsets[i + 1] - geom->poly_offsets[i];
+  for (PetscInt e = 0; e < own->nown_interfaces; e++) {
+    PetscInt i = own->own_interfaces[e], nv = geom->poly_offsets[i + 1] - geom->poly_offsets[i], r = L->itopology_start[e];
     int      type = BwXdmfPolygonType(nv);
-    x->interface_topology[k++] = type;
-    if (type == BW_XDMF_POLYGON) x->interface_topology[k++] = nv;
-    for (PetscInt v = geom->poly_offsets[i]; v < geom->poly_offsets[i + 1]; v++) x->interface_topology[k++] = v;
-  }
-  PetscCall(BwXdmfOwnedRows(own->nown_blocks, own->own_blocks, geom->offsets, &x->nvertex_rows, &x->vertex_rows, &x->vertex_displacement));
-  k = 0;
-  for (PetscInt e = 0; e < own->nown_blocks; e++) {
-    PetscInt b = own->own_blocks[e];
-    for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++, k++) {
-      PetscReal *out = x->vertex_displacement + 3 * k;
-      out[0] = out[1] = out[2] = 0;
-      BwXdmfAddRigidMotion(res->displacement + 6 * e, geom->centroid + 3 * b, geom->vertices + 3 * v, 1, out);
+    x->interface_topology_rows[k] = r++;
+    x->interface_topology[k++]    = type;
+    if (type == BW_XDMF_POLYGON) {
+      x->interface_topology_rows[k] = r++;
+      x->interface_topology[k++]    = nv;
+    }
+    for (PetscInt v = 0; v < nv; v++) {
+      x->interface_topology_rows[k] = r++;
+      x->interface_topology[k++]    = geom->gpoly_offset[i] + v;
     }
   }
-  PetscCall(BwXdmfOwnedRows(own->nown_interfaces, own->own_interfaces, geom->poly_offsets, &x->ninterface_rows, &x->interface_rows, &x->interface_displacement));
+  PetscCall(BwXdmfVertexRows(geom, res, x));
+  for (PetscInt e = 0; e < own->nown_interfaces; e++) {
+    PetscInt i = own->own_interfaces[e];
+    x->ninterface_rows += geom->poly_offsets[i + 1] - geom->poly_offsets[i];
+  }
+  PetscCall(PetscMalloc2(x->ninterface_rows + 1, &x->interface_rows, 3 * x->ninterface_rows + 1, &x->interface_displacement));
   k = 0;
   for (PetscInt e = 0; e < own->nown_interfaces; e++) {
     PetscInt i = own->own_interfaces[e];
-    for (PetscInt v = geom->poly_offsets[i]; v < geom->poly_offsets[i + 1]; v++, k++) BwXdmfInterfaceMotion(geom, i, res->pair + 12 * e, geom->poly + 3 * v, x->interface_displacement + 3 * k);
+    for (PetscInt v = geom->poly_offsets[i]; v < geom->poly_offsets[i + 1]; v++, k++) {
+      x->interface_rows[k] = geom->gpoly_offset[i] + (v - geom->poly_offsets[i]);
+      BwXdmfInterfaceMotion(geom, i, res->pair + 12 * e, geom->poly + 3 * v, x->interface_displacement + 3 * k);
+    }
   }
-  if (portions) PetscCall(BwXdmfPortionsCreate(geom, own, res->pair, x));
+  if (portions) PetscCall(BwXdmfPortionsCreate(geom, own, L, res->pair, x));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwXdmfDataCreate(BwGeometry geom, const BwMixedOwnership *own, const BwResults *res, PetscBool portions, BwXdmfData *x)
+PetscErrorCode BwXdmfDataCreate(BwGeometry geom, const BwMixedOwnership *own, const BwXdmfLayout *L, const BwResults *res, PetscBool portions, BwXdmfData *x)
 {
-  PetscInt nb = geom->nblocks, ni = geom->ninterfaces, k = 0;
+  const PetscInt nown = geom->nown_blocks, noi = own->nown_interfaces;
+  PetscInt       k = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(x, sizeof(*x)));
   if (geom->dim == 3) {
-    PetscCall(BwXdmfDataCreate3D(geom, own, res, portions, x));
+    PetscCall(BwXdmfDataCreate3D(geom, own, L, res, portions, x));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  x->ntopology           = BwXdmfTopologyLength(geom);
-  x->ninterface_topology = 2 * ni;
-  PetscCall(PetscMalloc3(x->ntopology + 1, &x->topology, 4 * ni + 1, &x->interface_points, 2 * ni + 1, &x->interface_topology));
-  for (PetscInt b = 0; b < nb; b++) {
-    int type = BwXdmfCellType(geom, b);
-    x->topology[k++] = type;
-    if (type == BW_XDMF_POLYGON) x->topology[k++] = geom->offsets[b + 1] - geom->offsets[b];
-    for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++) x->topology[k++] = v;
+  for (PetscInt b = 0; b < nown; b++) x->ntopology_rows += BwXdmfBlockTopologyLength(geom, b);
+  PetscCall(PetscMalloc2(x->ntopology_rows + 1, &x->topology_rows, x->ntopology_rows + 1, &x->topology));
+  for (PetscInt b = 0; b < nown; b++) {
+    int      type = BwXdmfCellType(geom, b);
+    PetscInt r    = L->topology_start[b];
+    x->topology_rows[k] = r++;
+    x->topology[k++]    = type;
+    if (type == BW_XDMF_POLYGON) {
+      x->topology_rows[k] = r++;
+      x->topology[k++]    = geom->offsets[b + 1] - geom->offsets[b];
+    }
+    for (PetscInt v = 0; v < geom->offsets[b + 1] - geom->offsets[b]; v++) {
+      x->topology_rows[k] = r++;
+      x->topology[k++]    = geom->gvoffset[b] + v;
+    }
   }
-  for (PetscInt i = 0; i < ni; i++) {
+  x->ninterface_rows2 = noi;
+  PetscCall(PetscMalloc3(noi + 1, &x->interface_rows2, 4 * noi + 1, &x->interface_points, 2 * noi + 1, &x->interface_topology2));
+  for (PetscInt e = 0; e < noi; e++) {
+    PetscInt  i = own->own_interfaces[e], gi = geom->giface[i];
     PetscReal h = 0.5 * geom->length[i], t[2] = {PetscCosReal(geom->angle[i]), PetscSinReal(geom->angle[i])};
     for (int d = 0; d < 2; d++) {
-      x->interface_points[4 * i + d]     = geom->center[2 * i + d] - h * t[d];
-      x->interface_points[4 * i + 2 + d] = geom->center[2 * i + d] + h * t[d];
+      x->interface_points[4 * e + d]     = geom->center[2 * i + d] - h * t[d];
+      x->interface_points[4 * e + 2 + d] = geom->center[2 * i + d] + h * t[d];
     }
-    x->interface_topology[2 * i]     = 2 * i;
-    x->interface_topology[2 * i + 1] = 2 * i + 1;
+    x->interface_rows2[e]            = gi;
+    x->interface_topology2[2 * e]     = 2 * gi;
+    x->interface_topology2[2 * e + 1] = 2 * gi + 1;
   }
-  for (PetscInt e = 0; e < own->nown_blocks; e++) x->nvertex_rows += geom->offsets[own->own_blocks[e] + 1] - geom->offsets[own->own_blocks[e]];
-  PetscCall(PetscMalloc2(x->nvertex_rows + 1, &x->vertex_rows, 3 * x->nvertex_rows + 1, &x->vertex_displacement));
-  k = 0;
-  for (PetscInt e = 0; e < own->nown_blocks; e++) {
-    PetscInt         b = own->own_blocks[e];
-    const PetscReal *u = res->displacement + 3 * e, *c = geom->centroid + 2 * b;
-    for (PetscInt v = geom->offsets[b]; v < geom->offsets[b + 1]; v++, k++) {
-      const PetscReal *p = geom->vertices + 2 * v;
-      x->vertex_rows[k]                 = v;
-      x->vertex_displacement[3 * k]     = u[0] - u[2] * (p[1] - c[1]);
-      x->vertex_displacement[3 * k + 1] = u[1] + u[2] * (p[0] - c[0]);
-      x->vertex_displacement[3 * k + 2] = 0;
-    }
-  }
+  PetscCall(BwXdmfVertexRows(geom, res, x));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwXdmfDataDestroy(BwXdmfData *x)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFree3(x->topology, x->interface_points, x->interface_topology));
+  PetscCall(PetscFree2(x->topology_rows, x->topology));
+  PetscCall(PetscFree3(x->interface_rows2, x->interface_points, x->interface_topology2));
+  PetscCall(PetscFree2(x->interface_topology_rows, x->interface_topology));
   PetscCall(PetscFree2(x->vertex_rows, x->vertex_displacement));
   PetscCall(PetscFree2(x->interface_rows, x->interface_displacement));
   PetscCall(PetscFree5(x->portion_rows, x->portion_points, x->portion_displacement, x->portion_topology_rows, x->portion_topology));
@@ -388,17 +471,17 @@ typedef struct {
 /* The grids of one state: `at` is "" for the file's final state, or a
  * step's group "/steps/NNNNNN" (with "/xdmf/steps/NNNNNN" for its point
  * displacements). m_state > 0: a pushover's portion states are fields. */
-static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, const BwXdmfPortionGrid *pg, const char at[], PetscInt step, PetscInt m_state)
+static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], const BwXdmfSizes *S, const BwXdmfPortionGrid *pg, const char at[], PetscInt step, PetscInt m_state)
 {
   char           dims[64], path[128], topo[128], xat[64];
-  PetscInt       nb = geom->nblocks, nv = geom->offsets[nb], ni = geom->ninterfaces;
-  const PetscInt d = geom->dim, nd = d == 3 ? 6 : 3;
+  PetscInt       nb = S->nblocks, nv = S->nvertices, ni = S->ninterfaces;
+  const PetscInt d = S->dim, nd = d == 3 ? 6 : 3;
   const char    *xy = d == 3 ? "XYZ" : "XY";
 
   PetscFunctionBeginUser;
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Grid Name=\"blocks\" GridType=\"Uniform\">\n"));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Mixed\" NumberOfElements=\"%" PetscInt_FMT "\">\n", nb));
-  PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, BwXdmfTopologyLength(geom)));
+  PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, S->ntopology));
   PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/topology", dims, "Int", 8));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"%s\">\n", xy));
   PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " %" PetscInt_FMT, nv, d));
@@ -424,14 +507,14 @@ static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, c
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Grid Name=\"interfaces\" GridType=\"Uniform\">\n"));
     if (d == 3) {
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Mixed\" NumberOfElements=\"%" PetscInt_FMT "\">\n", ni));
-      PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, BwXdmfInterfaceTopologyLength(geom)));
+      PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT, S->ninterface_topology));
       PetscCall(BwXdmfItem(fp, "        ", ref, "/xdmf/interface_topology", dims, "Int", 8));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Topology>\n      <Geometry GeometryType=\"XYZ\">\n"));
-      PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 3", geom->poly_offsets[ni]));
+      PetscCall(PetscSNPrintf(dims, sizeof(dims), "%" PetscInt_FMT " 3", S->npolyvertices));
       PetscCall(BwXdmfItem(fp, "        ", ref, "/interfaces/vertices", dims, "Float", 8));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      </Geometry>\n"));
       PetscCall(PetscSNPrintf(path, sizeof(path), "%s/interface_displacement", xat));
-      PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", path, geom->poly_offsets[ni], 3, "Float", 8));
+      PetscCall(BwXdmfField(fp, ref, "vertex_displacement", "Node", path, S->npolyvertices, 3, "Float", 8));
       PetscCall(BwXdmfField(fp, ref, "area", "Cell", "/interfaces/area", ni, 1, "Float", 8));
     } else {
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "      <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"%" PetscInt_FMT "\">\n", ni));
@@ -485,27 +568,19 @@ static PetscErrorCode BwXdmfGrids(FILE *fp, const char ref[], BwGeometry geom, c
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometry geom, const BwPortions *portions, PetscInt nsteps, const PetscInt steps[], PetscInt m_state, PetscBool stresses)
+PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], const BwXdmfSizes *sizes, PetscInt nsteps, const PetscInt steps[], PetscInt m_state, PetscBool stresses)
 {
   const char       *slash = strrchr(h5file, '/');
   char              ref[3 * PETSC_MAX_PATH_LEN];
   FILE             *fp;
-  BwXdmfPortionGrid pg = {0, 0, 0, stresses};
+  BwXdmfPortionGrid pg = {sizes->nportions, sizes->nportion_points, sizes->nportion_topology, stresses};
 
   PetscFunctionBeginUser;
-  if (portions && geom->ninterfaces > 0) {
-    BwXdmfLayouts L;
-    PetscCall(BwXdmfLayoutsCreate(geom, portions, &L));
-    for (PetscInt k = 0; k < geom->ninterfaces; k++) pg.nportions += BwPortionsCount(portions, k);
-    pg.npoints   = L.points[geom->ninterfaces];
-    pg.ntopology = L.topology[geom->ninterfaces];
-    PetscCall(BwXdmfLayoutsDestroy(&L));
-  }
   PetscCall(BwXmlEscape(slash ? slash + 1 : h5file, ref, sizeof(ref)));
   PetscCall(PetscFOpen(PETSC_COMM_SELF, xdmffile, "w", &fp));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<?xml version=\"1.0\" ?>\n<!-- blockwall %s: blocks and interfaces of the HDF5 file named below, which must stay beside this file -->\n", BW_VERSION));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "<Xdmf Version=\"3.0\">\n  <Domain>\n"));
-  if (!nsteps) PetscCall(BwXdmfGrids(fp, ref, geom, &pg, "", -1, m_state));
+  if (!nsteps) PetscCall(BwXdmfGrids(fp, ref, sizes, &pg, "", -1, m_state));
   else {
     /* a temporal collection over the written steps (time = step number,
      * which grows where the load factor may not): ParaView plays it */
@@ -515,7 +590,7 @@ PetscErrorCode BwXdmfWrite(const char h5file[], const char xdmffile[], BwGeometr
       PetscCall(PetscSNPrintf(at, sizeof(at), "/steps/%06" PetscInt_FMT, steps[s]));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  <Grid Name=\"step %06" PetscInt_FMT "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", steps[s]));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "    <Time Value=\"%" PetscInt_FMT "\"/>\n", steps[s]));
-      PetscCall(BwXdmfGrids(fp, ref, geom, &pg, at, steps[s], m_state));
+      PetscCall(BwXdmfGrids(fp, ref, sizes, &pg, at, steps[s], m_state));
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  </Grid>\n"));
     }
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, fp, "  </Grid>\n"));

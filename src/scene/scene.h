@@ -44,6 +44,9 @@ PetscErrorCode BwSceneLocate(BwScene scene, const char option[], char buf[], siz
  * "<BwSceneLocate(option)> <formatted text>". Collective in effect: every
  * rank holds the same keys and raises the same error. */
 PetscErrorCode BwSceneError(BwScene scene, const char option[], const char fmt[], ...) PETSC_ATTRIBUTE_FORMAT(3, 4);
+/* The same for a check each rank makes on its own piece (collective): if
+ * any rank is `bad`, every rank raises the lowest such rank's message. */
+PetscErrorCode BwSceneErrorAgree(BwScene scene, PetscBool bad, const char option[], const char fmt[], ...) PETSC_ATTRIBUTE_FORMAT(4, 5);
 
 /* Typed getters. `option` is the option name with '-'; `help` says what it
  * is, with its unit. *value holds the default on entry and the value in

@@ -47,6 +47,30 @@ PetscErrorCode BwSceneError(BwScene scene, const char option[], const char fmt[]
   SETERRQ(scene->comm, PETSC_ERR_USER_INPUT, "%s", msg);
 }
 
+PetscErrorCode BwSceneErrorAgree(BwScene scene, PetscBool bad, const char option[], const char fmt[], ...)
+{
+  char        msg[BW_MSG_LEN] = "";
+  PetscMPIInt rank, first, mine;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(scene->comm, &rank));
+  if (bad) {
+    size_t  k;
+    va_list ap;
+    PetscCall(BwSceneLocate(scene, option, msg, sizeof(msg) - 1));
+    k        = strlen(msg);
+    msg[k++] = ' ';
+    va_start(ap, fmt);
+    vsnprintf(msg + k, sizeof(msg) - k, fmt, ap);
+    va_end(ap);
+  }
+  mine = bad ? rank : PETSC_MPI_INT_MAX;
+  PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, scene->comm));
+  if (first == PETSC_MPI_INT_MAX) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCallMPI(MPI_Bcast(msg, sizeof(msg), MPI_CHAR, first, scene->comm));
+  SETERRQ(scene->comm, PETSC_ERR_USER_INPUT, "%s", msg);
+}
+
 /* The value in effect of option `name` (without '-'). */
 typedef struct {
   PetscBool   found;

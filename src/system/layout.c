@@ -1,15 +1,20 @@
 /* BwMixed's layout: who owns what, the numbering of the unknowns, the dof
  * scales, and the accessors (see mixed.h for the system itself).
  *
- * Ownership: a rank owns the blocks the partition gives it and the
- * interfaces whose first block it owns (the second block's owner when the
- * first has no free dof, so that fixed supports do not pull work to one
- * rank). It assembles only its own rows: the 2m stress rows of its
- * interfaces and the 3 dof rows of its blocks that have free dofs; nothing
- * is stashed for another rank. */
+ * Everything here is of the rank's local piece of the geometry (geometry.h:
+ * its owned blocks, the interfaces touching them, their other blocks as
+ * ghosts). A rank owns the blocks the partition gives it and the interfaces
+ * whose first block it owns (the second block's owner when the first has
+ * no free dof, so that fixed supports do not pull work to one rank); both
+ * owners of an interface's blocks hold it and apply the same rule. It
+ * assembles only its own rows: the 2m stress rows of its interfaces and the
+ * 3 dof rows of its blocks that have free dofs; nothing is stashed for
+ * another rank. The rows of ghost blocks and of interfaces it holds but
+ * does not own (their owners number them) come from their owners, once. */
 #include "system/mixed_impl.h"
 #include "util/compat.h"
 #include "blockwall/kernels.h"
+#include "util/exchange.h"
 
 const char *const BwStorages[] = {"shell", "nest", "aij", "BwStorage", "BW_STORAGE_", NULL};
 
@@ -47,30 +52,21 @@ void BwMixedStiffnessRoots(BwMixed mx, PetscInt k, PetscReal *skt, PetscReal *sk
   *skn = PetscSqrtReal(mx->model->kn[k]);
 }
 
-/* 1/sqrt(diag S) per free dof of the elastic system: the dof's own stiffness
- * summed over its block's interfaces, whichever rank owns them (the kernel
- * is recomputed rather than communicated), for the blocks this rank uses:
- * its own and those of the interfaces touching them or owned by it. A free
- * dof without stiffness is caught as a mechanism before; a prescribed dof
- * has scale 1. */
+/* 1/sqrt(diag S) per free dof of the elastic system: the dof's own
+ * stiffness summed over its block's interfaces (all of them local for an
+ * owned block), computed by the owner and sent to the ranks that hold the
+ * block as a ghost. A free dof without stiffness is caught as a mechanism
+ * before; a prescribed dof has scale 1. */
 static PetscErrorCode BwMixedScales(BwMixed mx)
 {
-  BwGeometry g = mx->geom;
-  PetscBool *need;
+  BwGeometry     g  = mx->geom;
+  const PetscInt nd = mx->nd;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(mx->nd * g->nblocks, &mx->qscale));
-  PetscCall(PetscCalloc1(g->nblocks, &need));
-  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-    PetscInt b = mx->own_blocks[e];
-    need[b]    = PETSC_TRUE;
-    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) need[g->pair[2 * mx->adj[a]]] = need[g->pair[2 * mx->adj[a] + 1]] = PETSC_TRUE;
-  }
-  for (PetscInt e = 0; e < mx->nown_interfaces; e++) need[g->pair[2 * mx->own_interfaces[e]]] = need[g->pair[2 * mx->own_interfaces[e] + 1]] = PETSC_TRUE;
-  for (PetscInt b = 0; b < g->nblocks; b++) {
-    const PetscInt nd = mx->nd;
-    PetscReal      diag[BW_MAX_ND] = {0};
-    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1] && need[b]; a++) {
+  PetscCall(PetscMalloc1(nd * g->nblocks + 1, &mx->qscale));
+  for (PetscInt b = 0; b < g->nown_blocks; b++) {
+    PetscReal diag[BW_MAX_ND] = {0};
+    for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
       PetscInt  k = mx->adj[a], side = BwSide(mx, k, b);
       PetscReal        rb[2 * BW_MAX_ND * BW_MAX_ND], kg[BW_MAX_ND * BW_MAX_ND], s[4 * BW_MAX_ND * BW_MAX_ND], c[BW_MAX_NS * BW_MAX_NS];
       const PetscReal *area, *xi, *eta;
@@ -79,13 +75,13 @@ static PetscErrorCode BwMixedScales(BwMixed mx)
       BwMixedElasticTangent(mx, k, c);
       PetscCall(BwMixedCompatibility(mx, k, rb));
       bw_kernel_condense((int)mx->dim, (int)np, area, xi, eta, 1, c, kg, &status);
-      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, k);
+      PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on interface %" PetscInt_FMT, g->giface[k]);
       bw_kernel_stiffness((int)mx->dim, rb, kg, s, &status);
       for (PetscInt c3 = 0; c3 < nd; c3++) diag[c3] += s[(side + c3) * (2 * nd + 1)];
     }
     for (PetscInt c3 = 0; c3 < nd; c3++) mx->qscale[nd * b + c3] = !mx->model->prescribed[nd * b + c3] && diag[c3] > 0 ? 1 / PetscSqrtReal(diag[c3]) : 1;
   }
-  PetscCall(PetscFree(need));
+  PetscCall(BwMixedGhostBcast(mx, nd, MPIU_REAL, mx->qscale));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -104,20 +100,56 @@ static PetscErrorCode BwMixedCreatePortions3D(BwMixed mx)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *mixed)
+/* The owner's local index of each interface this rank holds but does not
+ * own, its global rows and its slot among all owned interfaces (BwQuery's
+ * answer on the owner). */
+static PetscErrorCode BwInterfaceRowsAnswer(void *ctx, PetscInt gid, PetscInt ans[])
+{
+  BwMixed  mx = (BwMixed)ctx;
+  PetscInt lo = 0, hi = mx->nown_interfaces;
+
+  PetscFunctionBeginUser;
+  /* own_interfaces ascend in local index, so in global id */
+  while (hi - lo > 1) {
+    PetscInt mid = (lo + hi) / 2;
+    if (mx->geom->giface[mx->own_interfaces[mid]] <= gid) lo = mid;
+    else hi = mid;
+  }
+  PetscCheck(mx->nown_interfaces && mx->geom->giface[mx->own_interfaces[lo]] == gid, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface %" PetscInt_FMT " asked of a rank that does not own it", gid);
+  ans[0] = mx->krow_r[mx->own_interfaces[lo]];
+  ans[1] = mx->rrow[mx->own_interfaces[lo]];
+  ans[2] = mx->islot[mx->own_interfaces[lo]];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedGhostBcast(BwMixed mx, PetscInt n, MPI_Datatype type, void *data)
+{
+  MPI_Datatype unit;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)n, type, &unit));
+  PetscCallMPI(MPI_Type_commit(&unit));
+  PetscCall(PetscSFBcastBegin(mx->block_sf, unit, data, data, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(mx->block_sf, unit, data, data, MPI_REPLACE));
+  PetscCallMPI(MPI_Type_free(&unit));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMixedCreate(BwModel model, BwMixed *mixed)
 {
   BwMixed     mx;
   BwGeometry  geom = model->geom;
-  PetscInt    nb = geom->nblocks, ni = geom->ninterfaces;
+  PetscInt    nb = geom->nblocks, ni = geom->ninterfaces, nown = geom->nown_blocks;
   PetscMPIInt size, rank;
-  PetscInt   *nr, *nq, *knext, *qnext, *rnext, *krnext;
 
   PetscFunctionBeginUser;
+  PetscCheck(geom->distributed, geom->comm, PETSC_ERR_ORDER, "BwMixedCreate needs the distributed geometry (BwGeometryDistribute)");
   PetscCall(PetscNew(&mx));
   mx->comm  = geom->comm;
   mx->geom  = geom;
   mx->model = model;
-  mx->spring_block = -1;
+  mx->spring_gblock  = -1;
+  mx->spring_block   = -1;
   mx->spring_written = -1;
   mx->m     = model->m;
   mx->dim   = geom->dim;
@@ -126,7 +158,7 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
   PetscCallMPI(MPI_Comm_size(mx->comm, &size));
   PetscCallMPI(MPI_Comm_rank(mx->comm, &rank));
 
-  /* block -> interfaces */
+  /* block -> interfaces (complete for owned blocks) */
   PetscCall(PetscCalloc1(nb + 1, &mx->adj_offsets));
   PetscCall(PetscMalloc1(2 * ni + 1, &mx->adj));
   for (PetscInt k = 0; k < ni; k++) {
@@ -145,86 +177,133 @@ PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt owner[], BwMixed *
     PetscCall(PetscFree(fill));
   }
   *mixed = mx; /* from here on, BwMixedDestroy cleans up after an error */
+  /* ghosts <- owners: the star forest of the blocks */
+  {
+    PetscSFNode *remote;
+    PetscCall(PetscMalloc1(nb - nown + 1, &remote));
+    for (PetscInt b = nown; b < nb; b++) {
+      remote[b - nown].rank  = geom->block_rank[b];
+      remote[b - nown].index = geom->block_rindex[b];
+    }
+    PetscInt *leaf; /* the ghosts, after the owned blocks */
+    PetscCall(PetscMalloc1(nb - nown + 1, &leaf));
+    for (PetscInt b = nown; b < nb; b++) leaf[b - nown] = b;
+    PetscCall(PetscSFCreate(mx->comm, &mx->block_sf));
+    PetscCall(PetscSFSetGraph(mx->block_sf, nb, nb - nown, leaf, PETSC_OWN_POINTER, remote, PETSC_OWN_POINTER));
+  }
   if (geom->dim == 3) PetscCall(BwMixedCreatePortions3D(mx));
   else PetscCall(BwPortionsCreate2D(ni, geom->pair, geom->length, geom->depth, mx->m, &mx->portions));
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
   PetscCall(BwMixedCheckRestraint(mx));
   PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
 
-  /* owners */
-  PetscCall(PetscMalloc2(nb, &mx->block_owner, ni, &mx->interface_owner));
-  if (owner) PetscCall(PetscArraycpy(mx->block_owner, owner, nb));
-  else {
-    /* contiguous ranges of blocks, as PetscSplitOwnership would give */
-    PetscInt b = 0;
-    for (PetscMPIInt p = 0; p < size; p++) {
-      PetscInt n = nb / size + (p < nb % size ? 1 : 0);
-      for (PetscInt e = 0; e < n; e++) mx->block_owner[b++] = p;
-    }
-  }
+  /* interface owners: the same rule on both ranks that hold one */
+  PetscCall(PetscMalloc1(ni + 1, &mx->interface_owner));
   for (PetscInt k = 0; k < ni; k++) {
     PetscInt i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
-    mx->interface_owner[k] = mx->block_owner[BwHasUnknowns(mx, i) ? i : j];
+    mx->interface_owner[k] = geom->block_rank[BwHasUnknowns(mx, i) ? i : j];
+    if (mx->interface_owner[k] == rank) mx->nown_interfaces++;
   }
+  PetscCall(PetscMalloc1(mx->nown_interfaces + 1, &mx->own_interfaces));
+  mx->nown_interfaces = 0;
+  for (PetscInt k = 0; k < ni; k++)
+    if (mx->interface_owner[k] == rank) mx->own_interfaces[mx->nown_interfaces++] = k;
+  mx->nown_blocks = nown;
+  PetscCall(PetscMalloc1(nown + 1, &mx->own_blocks));
+  for (PetscInt b = 0; b < nown; b++) mx->own_blocks[b] = b;
 
   /* numbering: rank p's rows of K are [its stresses | its blocks' dofs] */
-  PetscCall(PetscCalloc6(size + 1, &nr, size + 1, &nq, size, &knext, size, &qnext, size, &rnext, size, &krnext));
-  for (PetscInt k = 0; k < ni; k++) nr[mx->interface_owner[k]] += mx->ns * BwPortionsCount(&mx->portions, k);
-  for (PetscInt b = 0; b < nb; b++)
-    if (BwHasUnknowns(mx, b)) nq[mx->block_owner[b]] += mx->nd;
+  for (PetscInt e = 0; e < mx->nown_interfaces; e++) mx->nr_local += mx->ns * BwPortionsCount(&mx->portions, mx->own_interfaces[e]);
+  for (PetscInt b = 0; b < nown; b++)
+    if (BwHasUnknowns(mx, b)) {
+      mx->nq_local += mx->nd;
+      mx->nown_q++;
+    }
+  mx->nlocal = mx->nr_local + mx->nq_local;
   {
-    PetscInt start = 0;
-    for (PetscMPIInt p = 0; p < size; p++) {
-      krnext[p] = start;
-      knext[p]  = start + nr[p];
-      qnext[p]  = mx->nq_global;
-      rnext[p]  = mx->nr_global;
-      if (p == rank) {
-        mx->kstart = start;
-        mx->qstart = mx->nq_global;
-        mx->rstart = mx->nr_global;
+    PetscInt loc[4] = {mx->nlocal, mx->nr_local, mx->nq_local, mx->nown_interfaces}, before[4] = {0, 0, 0, 0}, total[4];
+    PetscCallMPI(MPI_Exscan(loc, before, 4, MPIU_INT, MPI_SUM, mx->comm));
+    if (!rank) before[0] = before[1] = before[2] = before[3] = 0;
+    PetscCallMPI(MPIU_Allreduce(loc, total, 4, MPIU_INT, MPI_SUM, mx->comm));
+    mx->kstart    = before[0];
+    mx->rstart    = before[1];
+    mx->qstart    = before[2];
+    mx->nr_global = total[1];
+    mx->nq_global = total[2];
+    PetscCall(PetscMalloc4(nb + 1, &mx->krow_q, nb + 1, &mx->qrow, ni + 1, &mx->krow_r, ni + 1, &mx->rrow));
+    PetscCall(PetscMalloc1(ni + 1, &mx->islot));
+    {
+      PetscInt kr = mx->kstart, r = mx->rstart;
+      for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+        PetscInt k = mx->own_interfaces[e], n = mx->ns * BwPortionsCount(&mx->portions, k);
+        mx->krow_r[k] = kr;
+        mx->rrow[k]   = r;
+        mx->islot[k]  = before[3] + e;
+        kr += n;
+        r += n;
       }
-      start += nr[p] + nq[p];
-      mx->nr_global += nr[p];
-      mx->nq_global += nq[p];
+    }
+    {
+      PetscInt kq = mx->kstart + mx->nr_local, q = mx->qstart;
+      for (PetscInt b = 0; b < nown; b++) {
+        if (BwHasUnknowns(mx, b)) {
+          mx->krow_q[b] = kq;
+          mx->qrow[b]   = q;
+          kq += mx->nd;
+          q += mx->nd;
+        } else mx->krow_q[b] = mx->qrow[b] = -1;
+      }
     }
   }
-  mx->nr_local = nr[rank];
-  mx->nq_local = nq[rank];
-  mx->nlocal   = nr[rank] + nq[rank];
-  PetscCall(PetscMalloc4(nb, &mx->krow_q, nb, &mx->qrow, ni, &mx->krow_r, ni, &mx->rrow));
-  for (PetscInt k = 0; k < ni; k++) {
-    PetscMPIInt p = mx->interface_owner[k];
-    mx->krow_r[k] = krnext[p];
-    mx->rrow[k]   = rnext[p];
-    krnext[p] += mx->ns * BwPortionsCount(&mx->portions, k);
-    rnext[p] += mx->ns * BwPortionsCount(&mx->portions, k);
-    if (p == rank) mx->nown_interfaces++;
-  }
-  for (PetscInt b = 0; b < nb; b++) {
-    PetscMPIInt p = mx->block_owner[b];
-    if (BwHasUnknowns(mx, b)) {
-      mx->krow_q[b] = knext[p];
-      mx->qrow[b]   = qnext[p];
-      knext[p] += mx->nd;
-      qnext[p] += mx->nd;
-      if (p == rank) mx->nown_q++;
-    } else mx->krow_q[b] = mx->qrow[b] = -1;
-    if (p == rank) mx->nown_blocks++;
-  }
-  PetscCall(PetscFree6(nr, nq, knext, qnext, rnext, krnext));
-  PetscCall(PetscMalloc2(mx->nown_blocks + 1, &mx->own_blocks, mx->nown_interfaces + 1, &mx->own_interfaces));
+  /* the ghosts' rows from their owners */
+  PetscCall(BwMixedGhostBcast(mx, 1, MPIU_INT, mx->krow_q));
+  PetscCall(BwMixedGhostBcast(mx, 1, MPIU_INT, mx->qrow));
   {
-    PetscInt n = 0;
-    for (PetscInt b = 0; b < nb; b++)
-      if (mx->block_owner[b] == rank) mx->own_blocks[n++] = b;
+    PetscInt     nother = ni - mx->nown_interfaces, *key, *val, n = 0;
+    PetscMPIInt *dest;
+    PetscCall(PetscMalloc3(nother + 1, &key, nother + 1, &dest, 3 * nother + 1, &val));
+    for (PetscInt k = 0; k < ni; k++)
+      if (mx->interface_owner[k] != rank) {
+        key[n]    = geom->giface[k];
+        dest[n++] = mx->interface_owner[k];
+      }
+    PetscCall(BwQuery(mx->comm, n, dest, key, 3, BwInterfaceRowsAnswer, mx, val));
     n = 0;
     for (PetscInt k = 0; k < ni; k++)
-      if (mx->interface_owner[k] == rank) mx->own_interfaces[n++] = k;
+      if (mx->interface_owner[k] != rank) {
+        mx->krow_r[k] = val[3 * n];
+        mx->rrow[k]   = val[3 * n + 1];
+        mx->islot[k]  = val[3 * n + 2];
+        n++;
+      }
+    PetscCall(PetscFree3(key, dest, val));
   }
-  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-    PetscInt b = mx->own_blocks[e];
-    mx->maxdeg = PetscMax(mx->maxdeg, mx->adj_offsets[b + 1] - mx->adj_offsets[b]);
+  /* the output's rows: the owned interfaces' global ids, their portions'
+   * first rows (ragged, in interface id order) */
+  {
+    PetscInt *cnt;
+    PetscCall(PetscMalloc1(mx->nown_interfaces + 1, &mx->own_interface_gid));
+    PetscCall(PetscMalloc1(mx->nown_interfaces + 1, &mx->own_portion_start));
+    PetscCall(PetscMalloc1(mx->nown_interfaces + 1, &cnt));
+    for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+      mx->own_interface_gid[e] = geom->giface[mx->own_interfaces[e]];
+      cnt[e]                   = BwPortionsCount(&mx->portions, mx->own_interfaces[e]);
+    }
+    PetscCall(BwRaggedOffsets(mx->comm, mx->nown_interfaces, mx->own_interface_gid, cnt, geom->ninterfaces_global, mx->own_portion_start, &mx->nportions_global));
+    PetscCall(PetscFree(cnt));
+  }
+  for (PetscInt b = 0; b < nown; b++) mx->maxdeg = PetscMax(mx->maxdeg, mx->adj_offsets[b + 1] - mx->adj_offsets[b]);
+  /* the partition's figures: interfaces across ranks (each counted by the
+   * rank of its first block) and the largest rank's blocks over the mean */
+  {
+    PetscInt  cut = 0, most;
+    for (PetscInt k = 0; k < ni; k++) {
+      PetscInt i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
+      if (geom->block_rank[i] != geom->block_rank[j] && geom->block_rank[i] == rank) cut++;
+    }
+    PetscCallMPI(MPIU_Allreduce(&cut, &mx->edge_cut, 1, MPIU_INT, MPI_SUM, mx->comm));
+    PetscCallMPI(MPIU_Allreduce(&nown, &most, 1, MPIU_INT, MPI_MAX, mx->comm));
+    mx->imbalance = geom->nblocks_global ? (PetscReal)most * size / geom->nblocks_global : 1;
   }
   PetscCall(BwMixedScales(mx));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -238,9 +317,14 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed)
   if (!mx) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscFree(mx->adj_offsets));
   PetscCall(PetscFree(mx->adj));
-  PetscCall(PetscFree2(mx->block_owner, mx->interface_owner));
+  PetscCall(PetscFree(mx->interface_owner));
   PetscCall(PetscFree4(mx->krow_q, mx->qrow, mx->krow_r, mx->rrow));
-  PetscCall(PetscFree2(mx->own_blocks, mx->own_interfaces));
+  PetscCall(PetscFree(mx->islot));
+  PetscCall(PetscFree(mx->own_blocks));
+  PetscCall(PetscFree(mx->own_interfaces));
+  PetscCall(PetscSFDestroy(&mx->block_sf));
+  PetscCall(PetscFree(mx->own_interface_gid));
+  PetscCall(PetscFree(mx->own_portion_start));
   PetscCall(PetscFree(mx->qscale));
   PetscCall(BwPortionsDestroy(&mx->portions));
   PetscCall(MatDestroy(&mx->K));
@@ -302,8 +386,8 @@ PetscErrorCode BwMixedGetPrescribedMask(BwMixed mx, Vec *mask)
 PetscErrorCode BwMixedGetOwnership(BwMixed mx, BwMixedOwnership *own)
 {
   PetscFunctionBeginUser;
-  own->nblocks         = mx->geom->nblocks;
-  own->ninterfaces     = mx->geom->ninterfaces;
+  own->nblocks         = mx->geom->nblocks_global;
+  own->ninterfaces     = mx->geom->ninterfaces_global;
   own->m               = mx->m;
   own->dim             = mx->dim;
   own->nd              = mx->nd;
@@ -315,6 +399,12 @@ PetscErrorCode BwMixedGetOwnership(BwMixed mx, BwMixedOwnership *own)
   own->own_interfaces  = mx->own_interfaces;
   own->nq_global       = mx->nq_global;
   own->nr_global       = mx->nr_global;
+  own->own_block_gid     = mx->geom->gblock;
+  own->own_interface_gid = mx->own_interface_gid;
+  own->own_portion_start = mx->own_portion_start;
+  own->nportions_global  = mx->nportions_global;
+  own->edge_cut        = mx->edge_cut;
+  own->imbalance       = mx->imbalance;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -353,17 +443,8 @@ void BwMixedRigidMotion(BwMixed mx, PetscInt r, PetscInt b, const PetscReal x0[]
 
 PetscErrorCode BwMixedInterfaceSlots(BwMixed mx, PetscInt slot[])
 {
-  PetscInt    ni = mx->geom->ninterfaces, *next, *index;
-  PetscMPIInt size;
-
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(mx->comm, &size));
-  PetscCall(PetscCalloc2(size + 1, &next, ni + 1, &index));
-  for (PetscInt k = 0; k < ni; k++) next[mx->interface_owner[k] + 1]++;
-  for (PetscMPIInt p = 0; p < size; p++) next[p + 1] += next[p];
-  for (PetscInt k = 0; k < ni; k++) index[k] = next[mx->interface_owner[k]]++;
-  for (PetscInt e = 0; e < mx->nkg; e++) slot[e] = index[mx->kg_interfaces[e]];
-  PetscCall(PetscFree2(next, index));
+  for (PetscInt e = 0; e < mx->nkg; e++) slot[e] = mx->islot[mx->kg_interfaces[e]];
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -377,8 +458,12 @@ PetscErrorCode BwMixedSetNearNullSpace(BwMixed mx)
   PetscScalar   *a[BW_MAX_ND];
 
   PetscFunctionBeginUser;
-  for (PetscInt b = 0; b < geom->nblocks; b++)
-    for (PetscInt c = 0; c < geom->dim; c++) x0[c] += geom->centroid[geom->dim * b + c] / geom->nblocks;
+  {
+    PetscReal sum[3] = {0, 0, 0};
+    for (PetscInt b = 0; b < geom->nown_blocks; b++)
+      for (PetscInt c = 0; c < geom->dim; c++) sum[c] += geom->centroid[geom->dim * b + c] / geom->nblocks_global;
+    PetscCallMPI(MPIU_Allreduce(sum, x0, 3, MPIU_REAL, MPIU_SUM, mx->comm));
+  }
   for (PetscInt r = 0; r < nrig; r++) {
     PetscCall(MatCreateVecs(mx->S, &v[r], NULL));
     PetscCall(VecGetArray(v[r], &a[r]));
@@ -414,15 +499,11 @@ PetscErrorCode BwMixedForwardWeights(BwMixed mx, Vec weight, PetscReal *prescrib
 {
   BwGeometry   geom = mx->geom;
   const PetscInt d = geom->dim, nd = mx->nd;
-  PetscReal      lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, PETSC_MIN_REAL}, size = 0, pmax = 0;
+  PetscReal      lo[3], hi[3], size = 0, pmax = 0;
   PetscScalar   *w;
 
   PetscFunctionBeginUser;
-  for (PetscInt v = 0; v < geom->nvertices; v++)
-    for (PetscInt c = 0; c < d; c++) {
-      lo[c] = PetscMin(lo[c], geom->vertices[d * v + c]);
-      hi[c] = PetscMax(hi[c], geom->vertices[d * v + c]);
-    }
+  PetscCall(BwGeometryBoundingBox(geom, lo, hi));
   for (PetscInt c = 0; c < d; c++) size += PetscSqr(hi[c] - lo[c]);
   size = PetscSqrtReal(size);
   PetscCall(VecGetArray(weight, &w));

@@ -33,11 +33,9 @@ extern const char *const BwStorages[];
 
 typedef struct _n_BwMixed *BwMixed;
 
-/* Layout from a block partition (owner rank per block; NULL: contiguous
- * ranges) and the restraint check. */
-PetscErrorCode BwMixedCreate(BwModel model, const PetscMPIInt block_owner[], BwMixed *mixed);
-/* Owner rank of every block: METIS k-way on more than one rank, NULL on one. */
-PetscErrorCode BwPartitionBlocks(BwModel model, PetscMPIInt **owner);
+/* Layout of the model's distributed geometry (its local piece) and the
+ * restraint check. */
+PetscErrorCode BwMixedCreate(BwModel model, BwMixed *mixed);
 /* The operators K (shell, or AIJ with storage aij) and S^ with the elastic
  * tangents. */
 PetscErrorCode BwMixedSetUp(BwMixed mixed, BwStorage storage);
@@ -57,7 +55,7 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed);
  * the elastic ones). S^'s values are refilled in place and K follows. */
 PetscErrorCode BwMixedSetTangents(BwMixed mixed, const PetscReal tangent[]);
 /* A spring of `stiffness` (scaled: 1 is the dof's own elastic stiffness)
- * on dof `dof` of `block` in K and S^ (block -1: none). Displacement
+ * on dof `dof` of global block `block` in K and S^ (block -1: none). Displacement
  * control solves with it, so that the Newton matrix stays regular on a
  * plateau where the structure has no stiffness along the monitor dof; the
  * residual (BwMixedResidual) never sees it. */
@@ -95,10 +93,11 @@ typedef PetscErrorCode (*BwPortionLawFn)(void *ctx, PetscInt e, PetscInt k, cons
  * side b (its stress rows lift the prescribed values): K x - b when the
  * law is elastic; its derivative is K with the laws' tangents. */
 PetscErrorCode BwMixedResidual(BwMixed mixed, Vec x, Vec b, BwPortionLawFn law, void *ctx, Vec F);
-/* The global row in K of dof `dof` (0 u1, 1 u2, 2 w) of `block`, -1 if the
- * dof is prescribed; the physical value is scale times the scaled one
- * (scale valid on the rank that owns the row). */
-PetscErrorCode BwMixedDofRow(BwMixed mixed, PetscInt block, PetscInt dof, PetscInt *row, PetscReal *scale);
+/* The global row in K of dof `dof` (0 u1, 1 u2, 2 w) of global block
+ * `gblock`, -1 if the dof is prescribed; the physical value is scale times
+ * the scaled one; value: its prescribed value (0 where free). Collective:
+ * every rank gets the owner's answer. */
+PetscErrorCode BwMixedDofRow(BwMixed mixed, PetscInt gblock, PetscInt dof, PetscInt *row, PetscReal *scale, PetscReal *value);
 
 /* Sizes and ownership, for output and analyses. */
 typedef struct {
@@ -106,8 +105,14 @@ typedef struct {
   PetscInt        dim, nd, ns;         /* 2 | 3; dofs per block; stresses per portion */
   const BwPortions *portions;          /* the portions of every interface */
   PetscInt        nown_blocks, nown_interfaces;
-  const PetscInt *own_blocks, *own_interfaces; /* ascending input indices */
+  const PetscInt *own_blocks, *own_interfaces; /* ascending local indices in the geometry's piece */
   PetscInt        nq_global, nr_global;
+  const PetscInt *own_block_gid;      /* global ids of the owned blocks (ascending) */
+  const PetscInt *own_interface_gid;  /* global ids of the owned interfaces (ascending) */
+  const PetscInt *own_portion_start;  /* per owned interface: its first row in the /portions datasets */
+  PetscInt        nportions_global;
+  PetscInt        edge_cut;  /* interfaces whose two blocks live on different ranks (0 on one) */
+  PetscReal       imbalance; /* the largest rank's blocks over the mean (1 on one rank) */
 } BwMixedOwnership;
 PetscErrorCode BwMixedGetOwnership(BwMixed mixed, BwMixedOwnership *own);
 PetscErrorCode BwMixedGetModel(BwMixed mixed, BwModel *model);

@@ -1,6 +1,7 @@
 /* The inside of BwMixed, shared by the files of src/system; nothing else
  * includes it. */
 #pragma once
+#include <petscsf.h>
 #include "system/mixed.h"
 #include "util/log.h"
 #include "system/portions.h"
@@ -19,17 +20,23 @@ struct _n_BwMixed {
   PetscInt   dim, nd, ns; /* 2, 3, 2 | 3, 6, 3 */
   PetscInt   m;
   BwPortions portions; /* of every interface: areas and centroids, shared by shape */
-  /* layout (replicated): owner rank of each block and interface; per block
-   * the global row of its first dof in K (3 consecutive rows) and in the
-   * q vectors (columns of D^, rows of S^), -1 for a block without free dofs;
-   * per interface the global row of its first stress in K and in the r
-   * vectors (rows of D^) */
-  PetscMPIInt *block_owner, *interface_owner;
-  PetscInt    *krow_q, *qrow, *krow_r, *rrow;
+  /* layout, per local block and interface of the geometry's local piece:
+   * the owner rank of each interface (a block's is geom->block_rank); per
+   * block the global row of its first dof in K (nd consecutive rows) and
+   * in the q vectors (columns of D^, rows of S^), -1 for a block without
+   * free dofs; per interface the global row of its first stress in K and
+   * in the r vectors (rows of D^), and its slot among all owned interfaces
+   * numbered rank after rank (the K_G vector's order) */
+  PetscMPIInt *interface_owner;
+  PetscInt    *krow_q, *qrow, *krow_r, *rrow, *islot;
+  PetscSF      block_sf; /* owners -> ghosts */
   PetscInt     nown_blocks, *own_blocks, nown_interfaces, *own_interfaces;
   PetscInt     nown_q;          /* owned blocks with unknowns */
+  PetscInt    *own_interface_gid, *own_portion_start, nportions_global; /* for the output's rows */
+  PetscInt     edge_cut;        /* interfaces between blocks of different ranks */
+  PetscReal    imbalance;       /* largest rank's blocks over the mean */
   PetscInt     kstart, qstart, rstart, nlocal, nr_local, nq_local, nr_global, nq_global;
-  /* block -> interfaces (CSR, replicated) */
+  /* local block -> local interfaces (CSR; complete for owned blocks) */
   PetscInt *adj_offsets, *adj;
   /* per block dof: 1/sqrt(diag S) of the elastic system, 1 where prescribed */
   PetscReal *qscale;
@@ -43,8 +50,10 @@ struct _n_BwMixed {
   PetscInt   s_dropped;    /* the entries of the local rows left out between them */
   PetscInt   maxdeg; /* most interfaces of an owned block */
   PetscInt   values_state; /* bumped when BwMixedSetTangents changes the operators' values */
-  /* a spring on one dof in the operators (BwMixedSetSpring), -1: none */
-  PetscInt   spring_block, spring_dof;
+  /* a spring on one dof in the operators (BwMixedSetSpring): the block's
+   * global id (-1: none) and its local index where it is owned here (-1:
+   * not here) */
+  PetscInt   spring_gblock, spring_block, spring_dof;
   PetscReal  spring;
   IS        isr, isq;
   Vec       pmask;        /* q layout: 1 at prescribed dofs */
@@ -64,6 +73,8 @@ struct _n_BwMixed {
   Vec        kg_owned, kg_ghost;
 };
 
+/* data[n b .. n b + n) of every ghost b from its owner (n items of type). */
+PetscErrorCode BwMixedGhostBcast(BwMixed mx, PetscInt n, MPI_Datatype type, void *data);
 /* Column offset (0 or nd) of block b in interface k's 2 nd columns. */
 static inline PetscInt BwSide(BwMixed mx, PetscInt k, PetscInt b) { return mx->geom->pair[2 * k] == b ? 0 : mx->nd; }
 /* R B of interface k (rb[nd][2 nd]); PETSC_ERR_PLIB on a kernel failure. */

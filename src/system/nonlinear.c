@@ -66,13 +66,23 @@ PetscErrorCode BwMixedResidual(BwMixed mx, Vec x, Vec b, BwPortionLawFn law, voi
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwMixedDofRow(BwMixed mx, PetscInt block, PetscInt dof, PetscInt *row, PetscReal *scale)
+PetscErrorCode BwMixedDofRow(BwMixed mx, PetscInt gblock, PetscInt dof, PetscInt *row, PetscReal *scale, PetscReal *value)
 {
-  const PetscInt nd = mx->nd;
+  const PetscInt nd = mx->nd, b = BwGeometryLocalBlock(mx->geom, gblock);
+  PetscReal      loc[3] = {-2, 0, -PETSC_MAX_REAL}, glob[3];
 
   PetscFunctionBeginUser;
-  PetscCheck(block >= 0 && block < mx->geom->nblocks && dof >= 0 && dof < nd, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "no dof %" PetscInt_FMT " of block %" PetscInt_FMT, dof, block);
-  *row   = mx->model->prescribed[nd * block + dof] || mx->krow_q[block] < 0 ? -1 : mx->krow_q[block] + dof;
-  *scale = mx->qscale ? mx->qscale[nd * block + dof] : 1;
+  PetscCheck(dof >= 0 && dof < nd, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "no dof %" PetscInt_FMT, dof);
+  /* the owner knows; every rank learns */
+  if (b >= 0 && b < mx->geom->nown_blocks) {
+    loc[0] = mx->model->prescribed[nd * b + dof] || mx->krow_q[b] < 0 ? -1 : (PetscReal)(mx->krow_q[b] + dof);
+    loc[1] = mx->qscale ? mx->qscale[nd * b + dof] : 1;
+    loc[2] = mx->model->value[nd * b + dof];
+  }
+  PetscCallMPI(MPIU_Allreduce(loc, glob, 3, MPIU_REAL, MPIU_MAX, mx->comm));
+  PetscCheck(glob[0] >= -1, mx->comm, PETSC_ERR_ARG_OUTOFRANGE, "no block %" PetscInt_FMT, gblock);
+  *row = (PetscInt)glob[0];
+  if (scale) *scale = glob[1];
+  if (value) *value = glob[2];
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -457,7 +457,7 @@ PetscErrorCode BwMixedAssembleD(BwMixed mx, PetscBool tangent, Mat *D)
 /* y_q += spring x_q at the spring's dof (on the rank that owns it). */
 static PetscErrorCode BwMixedAddSpring(BwMixed mx, Vec xq, Vec yq)
 {
-  PetscInt row = mx->qrow[mx->spring_block];
+  PetscInt row = mx->spring_block >= 0 ? mx->qrow[mx->spring_block] : -1;
 
   PetscFunctionBeginUser;
   /* every rank takes the arrays: the state of yq moves everywhere (a state
@@ -490,7 +490,7 @@ static PetscErrorCode BwKShellMult(Mat K, Vec x, Vec y)
   PetscCall(BwMixedApplyTangent(mx, yr));
   PetscCall(VecAXPY(yr, -1.0, xr));
   PetscCall(VecPointwiseMult(yq, mx->pmask, xq));
-  if (mx->spring_block >= 0) PetscCall(BwMixedAddSpring(mx, xq, yq));
+  if (mx->spring_gblock >= 0) PetscCall(BwMixedAddSpring(mx, xq, yq));
   PetscCall(MatMultTransposeAdd(mx->D, xr, yq, yq));
   PetscCall(VecRestoreSubVector(y, mx->isq, &yq));
   PetscCall(VecRestoreSubVector(y, mx->isr, &yr));
@@ -546,7 +546,7 @@ PetscErrorCode BwMixedResidualSums(BwMixed mx, Vec x, Vec b, PetscReal loc[6])
   /* q rows: P q~ (+ the spring) + D^T r~ */
   PetscCall(VecDuplicate(xq, &kq));
   PetscCall(VecPointwiseMult(kq, mx->pmask, xq));
-  if (mx->spring_block >= 0) PetscCall(BwMixedAddSpring(mx, xq, kq));
+  if (mx->spring_gblock >= 0) PetscCall(BwMixedAddSpring(mx, xq, kq));
   PetscCall(MatMultTransposeAdd(mx->D, xr, kq, kq));
   PetscCall(VecGetArrayRead(kq, &kk));
   PetscCall(VecGetArrayRead(bq, &bb));
@@ -620,7 +620,7 @@ PetscErrorCode BwMixedCreateAIJ(BwMixed mx, Mat *aij)
   PetscCall(MatSetOption(A11, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
   PetscCall(VecDuplicate(mx->pmask, &diag));
   PetscCall(VecCopy(mx->pmask, diag));
-  if (mx->spring_block >= 0) {
+  if (mx->spring_gblock >= 0) {
     Vec one;
     PetscCall(VecDuplicate(diag, &one));
     PetscCall(VecSet(one, 1.0));
@@ -707,12 +707,20 @@ static PetscErrorCode BwMixedValuesChanged(BwMixed mx)
 
 PetscErrorCode BwMixedSetSpring(BwMixed mx, PetscInt block, PetscInt dof, PetscReal stiffness)
 {
+  PetscInt local = block < 0 ? -1 : BwGeometryLocalBlock(mx->geom, block);
+
   PetscFunctionBeginUser;
-  PetscCheck(block < 0 || (mx->qrow[block] >= 0 && !mx->model->prescribed[mx->nd * block + dof]), mx->comm, PETSC_ERR_ARG_WRONG, "a spring needs a free dof");
-  if (block == mx->spring_block && dof == mx->spring_dof && stiffness == mx->spring) PetscFunctionReturn(PETSC_SUCCESS);
-  mx->spring_block = block < 0 ? -1 : block;
-  mx->spring_dof   = block < 0 ? 0 : dof;
-  mx->spring       = block < 0 ? 0 : stiffness;
+  if (local >= mx->geom->nown_blocks) local = -1; /* a ghost here: its owner adds it */
+  {
+    PetscBool bad = local >= 0 && (mx->qrow[local] < 0 || mx->model->prescribed[mx->nd * local + dof]) ? PETSC_TRUE : PETSC_FALSE, any;
+    PetscCallMPI(MPIU_Allreduce(&bad, &any, 1, MPIU_BOOL, MPI_LOR, mx->comm));
+    PetscCheck(!any, mx->comm, PETSC_ERR_ARG_WRONG, "a spring needs a free dof");
+  }
+  if (block == mx->spring_gblock && dof == mx->spring_dof && stiffness == mx->spring) PetscFunctionReturn(PETSC_SUCCESS);
+  mx->spring_gblock = block < 0 ? -1 : block;
+  mx->spring_block  = local;
+  mx->spring_dof    = block < 0 ? 0 : dof;
+  mx->spring        = block < 0 ? 0 : stiffness;
   PetscCall(BwMixedValuesChanged(mx));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -273,14 +273,28 @@ PetscErrorCode BwMixedCheck(BwMixed mx, Vec x, Vec b, const PetscReal load[], co
     BwGeometry     geom = mx->geom;
     const PetscInt d = geom->dim, nd = mx->nd;
     PetscReal      x0[3] = {0, 0, 0}, lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, PETSC_MIN_REAL}, L = 0, w[7] = {0}, wg[7];
-    for (PetscInt b = 0; b < geom->nblocks; b++)
+    {
+      /* the mean centroid, the centroids' box and a block's size, over all
+       * ranks (each sums its owned blocks) */
+      PetscReal sum[4] = {0, 0, 0, 0}, gsum[4], glo[3], ghi[3];
+      for (PetscInt b = 0; b < geom->nown_blocks; b++)
+        for (PetscInt c = 0; c < d; c++) {
+          sum[c] += geom->centroid[d * b + c] / geom->nblocks_global;
+          lo[c] = PetscMin(lo[c], geom->centroid[d * b + c]);
+          hi[c] = PetscMax(hi[c], geom->centroid[d * b + c]);
+        }
+      /* the block that sets the floor of L: global block 0's size, as one
+       * rank holds it */
+      sum[3] = geom->nown_blocks && geom->gblock[0] == 0 ? BwGeometryBlockSize(geom, 0) : 0;
+      PetscCallMPI(MPIU_Allreduce(sum, gsum, 4, MPIU_REAL, MPIU_SUM, mx->comm));
+      PetscCallMPI(MPIU_Allreduce(lo, glo, 3, MPIU_REAL, MPIU_MIN, mx->comm));
+      PetscCallMPI(MPIU_Allreduce(hi, ghi, 3, MPIU_REAL, MPIU_MAX, mx->comm));
       for (PetscInt c = 0; c < d; c++) {
-        x0[c] += geom->centroid[d * b + c] / geom->nblocks;
-        lo[c] = PetscMin(lo[c], geom->centroid[d * b + c]);
-        hi[c] = PetscMax(hi[c], geom->centroid[d * b + c]);
+        x0[c] = gsum[c];
+        L += PetscSqr(ghi[c] - glo[c]);
       }
-    for (PetscInt c = 0; c < d; c++) L += PetscSqr(hi[c] - lo[c]);
-    L = PetscMax(PetscSqrtReal(L), BwGeometryBlockSize(geom, 0));
+      L = PetscMax(PetscSqrtReal(L), gsum[3]);
+    }
     for (PetscInt e = 0; e < mx->nown_blocks; e++) {
       PetscInt b = mx->own_blocks[e];
       /* the wrench of the loads and of the reactions about x0: forces, then

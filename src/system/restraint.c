@@ -47,30 +47,7 @@
 #include "system/mixed_impl.h"
 #include "util/compat.h"
 #include "util/factor.h"
-
-/* "3, 4, 9, ..." for the blocks b >= first with comp[b] == c. */
-static PetscErrorCode BwBlockList(PetscInt nb, const PetscInt comp[], PetscInt c, PetscInt first, char list[], size_t len, PetscInt *count)
-{
-  PetscFunctionBeginUser;
-  list[0] = 0;
-  *count  = 0;
-  for (PetscInt o = first; o < nb; o++) {
-    if (comp[o] != c) continue;
-    if (*count < 12) {
-      char item[32];
-      PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, *count ? ", " : "", o));
-      PetscCall(PetscStrlcat(list, item, len));
-    } else if (*count == 12) PetscCall(PetscStrlcat(list, ", ...", len));
-    (*count)++;
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-typedef struct {
-  PetscInt  first, nblocks, nfree, nrows, n[3];
-  PetscReal x0, y0, area, xmin, xmax, ymin, ymax; /* centroid mean and box */
-  PetscReal y1[2], x2[2];                         /* range of u1-prescribed y, u2-prescribed x */
-} BwGroup;
+#include "util/exchange.h"
 
 /* Eigen-decomposition of a symmetric n x n matrix a (row-major, destroyed)
  * by cyclic Jacobi rotations: eigenvalues lam[n], eigenvectors as the
@@ -153,233 +130,502 @@ static PetscErrorCode BwDescribeRigid3D(const PetscReal a[3], const PetscReal w[
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* ------------------------------------------------------------ groups */
+
+static PetscInt BwFind(PetscInt parent[], PetscInt x)
+{
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x         = parent[x];
+  }
+  return x;
+}
+
+/* label[b] = the smallest global id of block b's group, for every local block. */
+static PetscErrorCode BwRestraintLabels(BwMixed mx, PetscInt label[])
+{
+  BwGeometry g = mx->geom;
+  PetscInt   nb = g->nblocks, *parent, *low, *before;
+  PetscBool  changed = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc3(nb + 1, &parent, nb + 1, &low, nb + 1, &before));
+  for (PetscInt b = 0; b < nb; b++) label[b] = g->gblock[b];
+  /* the groups of the piece itself, once */
+  for (PetscInt b = 0; b < nb; b++) parent[b] = b;
+  for (PetscInt k = 0; k < g->ninterfaces; k++) {
+    PetscInt ri = BwFind(parent, g->pair[2 * k]), rj = BwFind(parent, g->pair[2 * k + 1]);
+    if (ri != rj) parent[PetscMax(ri, rj)] = PetscMin(ri, rj);
+  }
+  while (changed) {
+    PetscBool here = PETSC_FALSE;
+    PetscCall(PetscArraycpy(before, label, nb));
+    for (PetscInt b = 0; b < nb; b++) low[b] = PETSC_MAX_INT;
+    for (PetscInt b = 0; b < nb; b++) {
+      PetscInt r = BwFind(parent, b);
+      low[r]     = PetscMin(low[r], label[b]);
+    }
+    for (PetscInt b = 0; b < nb; b++) label[b] = low[BwFind(parent, b)];
+    /* a ghost's label to its owner (the smallest wins), then back */
+    PetscCall(PetscSFReduceBegin(mx->block_sf, MPIU_INT, label, label, MPI_MIN));
+    PetscCall(PetscSFReduceEnd(mx->block_sf, MPIU_INT, label, label, MPI_MIN));
+    PetscCall(PetscSFBcastBegin(mx->block_sf, MPIU_INT, label, label, MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(mx->block_sf, MPIU_INT, label, label, MPI_REPLACE));
+    for (PetscInt b = 0; b < nb && !here; b++) here = label[b] != before[b] ? PETSC_TRUE : PETSC_FALSE;
+    PetscCallMPI(MPIU_Allreduce(&here, &changed, 1, MPIU_BOOL, MPI_LOR, mx->comm));
+  }
+  PetscCall(PetscFree3(parent, low, before));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* What a group's check needs, summed over its blocks (any order: the
+ * sums are merged on the group's home rank). */
+typedef struct {
+  PetscInt  label, nblocks, nfree, nrows, nfix, n[6];
+  PetscInt  first_seen;           /* the smallest global id among the blocks summed here */
+  PetscReal first_size;           /* that block's size */
+  PetscReal sum[3], lo[3], hi[3], area;
+  PetscReal y1[2], x2[2];         /* 2D: range of u1-prescribed y, u2-prescribed x */
+  PetscReal M[36];                /* 3D: the constraint rows' normal matrix (second round) */
+} BwGroupSum;
+
+static void BwGroupInit(BwGroupSum *s, PetscInt label)
+{
+  PetscMemzero(s, sizeof(*s));
+  s->label      = label;
+  s->first_seen = PETSC_MAX_INT;
+  for (int c = 0; c < 3; c++) s->lo[c] = PETSC_MAX_REAL, s->hi[c] = PETSC_MIN_REAL;
+  s->y1[0] = s->x2[0] = PETSC_MAX_REAL;
+  s->y1[1] = s->x2[1] = PETSC_MIN_REAL;
+}
+
+static void BwGroupMerge(BwGroupSum *a, const BwGroupSum *b)
+{
+  a->nblocks += b->nblocks;
+  a->nfree += b->nfree;
+  a->nrows += b->nrows;
+  a->nfix += b->nfix;
+  for (int c = 0; c < 6; c++) a->n[c] += b->n[c];
+  if (b->first_seen < a->first_seen) {
+    a->first_seen = b->first_seen;
+    a->first_size = b->first_size;
+  }
+  for (int c = 0; c < 3; c++) {
+    a->sum[c] += b->sum[c];
+    a->lo[c] = PetscMin(a->lo[c], b->lo[c]);
+    a->hi[c] = PetscMax(a->hi[c], b->hi[c]);
+  }
+  a->area += b->area;
+  a->y1[0] = PetscMin(a->y1[0], b->y1[0]);
+  a->y1[1] = PetscMax(a->y1[1], b->y1[1]);
+  a->x2[0] = PetscMin(a->x2[0], b->x2[0]);
+  a->x2[1] = PetscMax(a->x2[1], b->x2[1]);
+  for (int c = 0; c < 36; c++) a->M[c] += b->M[c];
+}
+
+static int BwGroupCompare(const void *x, const void *y)
+{
+  const BwGroupSum *a = x, *b = y;
+  return (a->label > b->label) - (a->label < b->label);
+}
+
+/* The sums of this rank's owned blocks, one per group, to each group's
+ * home (label % ranks), merged there: *nhome groups, ascending label. */
+static PetscErrorCode BwGroupsToHome(MPI_Comm comm, PetscInt n, BwGroupSum loc[], PetscInt *nhome, BwGroupSum **home)
+{
+  BwPacker    p;
+  char       *recv;
+  size_t      nrecv;
+  PetscMPIInt size;
+  PetscInt    m = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(BwPackerCreate(comm, &p));
+  for (PetscInt q = 0; q < n; q++) PetscCall(BwPack(&p, (PetscMPIInt)(loc[q].label % size), &loc[q], sizeof(BwGroupSum)));
+  PetscCall(BwPackerExchange(comm, &p, &recv, &nrecv, NULL));
+  PetscCall(BwPackerDestroy(&p));
+  n = (PetscInt)(nrecv / sizeof(BwGroupSum));
+  qsort(recv, (size_t)n, sizeof(BwGroupSum), BwGroupCompare);
+  {
+    BwGroupSum *r = (BwGroupSum *)recv;
+    for (PetscInt q = 0; q < n; q++) {
+      if (m && r[m - 1].label == r[q].label) BwGroupMerge(&r[m - 1], &r[q]);
+      else r[m++] = r[q];
+    }
+  }
+  *nhome = m;
+  *home  = (BwGroupSum *)recv;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Each owned block's group sums (first round: counts, centroids, boxes,
+ * prescribed dofs), one record per group, ascending label. */
+static PetscErrorCode BwGroupsLocal(BwMixed mx, const PetscInt label[], PetscInt *n, BwGroupSum **loc, PetscInt **which)
+{
+  BwGeometry     g = mx->geom;
+  BwModel        model = mx->model;
+  const PetscInt d = g->dim, nd = mx->nd, nown = g->nown_blocks;
+  PetscInt      *lab, *perm, m = 0;
+  BwGroupSum    *s;
+
+  PetscFunctionBeginUser;
+  /* the groups present: sorted labels of the owned blocks */
+  PetscCall(PetscMalloc1(nown + 1, &lab));
+  PetscCall(PetscMalloc1(nown + 1, &perm));
+  for (PetscInt b = 0; b < nown; b++) lab[b] = label[b];
+  {
+    PetscInt cnt = nown;
+    PetscCall(PetscSortRemoveDupsInt(&cnt, lab));
+    m = cnt;
+  }
+  PetscCall(PetscMalloc1(m + 1, &s));
+  for (PetscInt q = 0; q < m; q++) BwGroupInit(&s[q], lab[q]);
+  /* which[b]: the record of owned block b */
+  for (PetscInt b = 0; b < nown; b++) PetscCall(PetscFindInt(label[b], m, lab, &perm[b]));
+  for (PetscInt b = 0; b < nown; b++) {
+    BwGroupSum      *r = &s[perm[b]];
+    const PetscReal *c = &g->centroid[d * b];
+    r->nblocks++;
+    if (g->gblock[b] < r->first_seen) {
+      r->first_seen = g->gblock[b];
+      r->first_size = BwGeometryBlockSize(g, b);
+    }
+    for (PetscInt a = 0; a < d; a++) {
+      r->sum[a] += c[a];
+      r->lo[a] = PetscMin(r->lo[a], c[a]);
+      r->hi[a] = PetscMax(r->hi[a], c[a]);
+    }
+    if (d == 2) r->area += g->area[b];
+    for (PetscInt a = 0; a < nd; a++) {
+      if (!model->prescribed[nd * b + a]) {
+        r->nfree++;
+        continue;
+      }
+      r->n[a]++;
+      r->nfix++;
+      if (d == 2 && a == 0) {
+        r->y1[0] = PetscMin(r->y1[0], c[1]);
+        r->y1[1] = PetscMax(r->y1[1], c[1]);
+      } else if (d == 2 && a == 1) {
+        r->x2[0] = PetscMin(r->x2[0], c[0]);
+        r->x2[1] = PetscMax(r->x2[1], c[0]);
+      }
+    }
+  }
+  /* the hinge rows of m = 1: each owned interface touching a free dof, on
+   * its first block's group */
+  for (PetscInt e = 0; e < mx->nown_interfaces; e++) {
+    PetscInt  k = mx->own_interfaces[e], i = g->pair[2 * k], j = g->pair[2 * k + 1], at;
+    PetscBool touches = PETSC_FALSE;
+    for (PetscInt a = 0; a < nd; a++) touches = (PetscBool)(touches || !model->prescribed[nd * i + a] || !model->prescribed[nd * j + a]);
+    if (!touches) continue;
+    PetscCall(PetscFindInt(label[i], m, lab, &at));
+    if (at >= 0) s[at].nrows += 2;
+    else {
+      /* its first block is a ghost here: the interface's rows go with a
+       * record of their own */
+      PetscCall(PetscRealloc(sizeof(BwGroupSum) * (size_t)(m + 2), &s));
+      BwGroupInit(&s[m], label[i]);
+      s[m++].nrows = 2;
+    }
+  }
+  *n   = m;
+  *loc = s;
+  if (which) *which = perm;
+  else PetscCall(PetscFree(perm));
+  PetscCall(PetscFree(lab));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* "3, 4, 9, ..." and the count: the 12 smallest global ids of group
+ * `label` over all ranks, to rank `root`. */
+static PetscErrorCode BwGroupList(BwMixed mx, const PetscInt label[], PetscInt glabel, PetscMPIInt root, char list[], size_t len)
+{
+  BwGeometry  g = mx->geom;
+  PetscInt    mine[13], nmine = 0, *all = NULL;
+  PetscMPIInt size, rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(mx->comm, &size));
+  PetscCallMPI(MPI_Comm_rank(mx->comm, &rank));
+  /* owned blocks ascend in global id: the first 13 of the group */
+  for (PetscInt b = 0; b < g->nown_blocks && nmine < 13; b++)
+    if (label[b] == glabel) mine[nmine++] = g->gblock[b];
+  for (PetscInt q = nmine; q < 13; q++) mine[q] = PETSC_MAX_INT;
+  if (rank == root) PetscCall(PetscMalloc1(13 * size, &all));
+  PetscCallMPI(MPI_Gather(mine, 13, MPIU_INT, all, 13, MPIU_INT, root, mx->comm));
+  list[0] = 0;
+  if (rank == root) {
+    PetscInt n = 13 * size, shown = 0;
+    PetscCall(PetscSortInt(n, all));
+    for (PetscInt q = 0; q < n && all[q] != PETSC_MAX_INT && shown <= 12; q++, shown++) {
+      char item[32];
+      if (shown == 12) PetscCall(PetscStrlcat(list, ", ...", len));
+      else {
+        PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, shown ? ", " : "", all[q]));
+        PetscCall(PetscStrlcat(list, item, len));
+      }
+    }
+    PetscCall(PetscFree(all));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The verdict of a 2D group (rigid motions left free by its prescribed
+ * dofs, exact for m >= 2; see the top of this file); *fails: 1 if a rigid
+ * motion is free, 0 if not; the message with "%s" for the block list. */
+static PetscErrorCode BwGroupVerdict2D(const BwGroupSum *g, char fmt[], size_t len, PetscInt *fails)
+{
+  PetscReal size = PetscMax(PetscMax(g->hi[0] - g->lo[0], g->hi[1] - g->lo[1]), PetscSqrtReal(g->area)), tol = 1e-9 * size;
+  PetscBool tx = (PetscBool)(g->n[0] == 0), ty = (PetscBool)(g->n[1] == 0);
+  PetscBool rot = (PetscBool)(g->n[2] == 0 && (g->n[0] == 0 || g->y1[1] - g->y1[0] <= tol) && (g->n[1] == 0 || g->x2[1] - g->x2[0] <= tol));
+  PetscInt  count = g->nblocks;
+  PetscReal x0 = g->sum[0] / g->nblocks, y0 = g->sum[1] / g->nblocks;
+
+  PetscFunctionBeginUser;
+  *fails = 0;
+  if (!tx && !ty && !rot) PetscFunctionReturn(PETSC_SUCCESS);
+  *fails = 1;
+  if (tx && ty && rot) {
+    PetscCall(PetscSNPrintf(fmt, len, "the assembly is not restrained: block%s %%s (%" PetscInt_FMT " block%s) %s no path of interfaces to a support; free motion: rigid translation and rotation", count > 1 ? "s" : "", count, count > 1 ? "s" : "", count > 1 ? "have" : "has"));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  {
+    char what[256] = "";
+    if (tx) PetscCall(PetscStrlcat(what, "translation along x (u1)", sizeof(what)));
+    if (ty) PetscCall(PetscStrlcat(what, tx ? ", translation along y (u2)" : "translation along y (u2)", sizeof(what)));
+    if (rot) {
+      char r[128];
+      PetscCall(PetscSNPrintf(r, sizeof(r), "%srotation about (%g, %g)", tx || ty ? ", " : "", (double)(g->n[1] ? g->x2[0] : x0), (double)(g->n[0] ? g->y1[0] : y0)));
+      PetscCall(PetscStrlcat(what, r, sizeof(what)));
+    }
+    PetscCall(PetscSNPrintf(fmt, len, "the assembly is not restrained: block%s %%s (%" PetscInt_FMT " block%s) %s held only by prescribed dofs (u1 on %" PetscInt_FMT ", u2 on %" PetscInt_FMT ", w on %" PetscInt_FMT " block%s) that leave a rigid motion free; free motion: %s", count > 1 ? "s" : "", count, count > 1 ? "s" : "", count > 1 ? "are" : "is", g->n[0], g->n[1], g->n[2], g->n[2] == 1 ? "" : "s", what));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* 3D: the rigid motions (a, w) about a group's mean centroid x0 that its
  * prescribed dofs leave free, exactly: the null space of the constraint
  * rows (u_b = a + w x (c_b - x0) on a prescribed translation, w_c on a
  * prescribed rotation; w scaled by the group's size L so that the columns
- * weigh alike), from the 6 x 6 normal matrix. With m, m_b >= 2 every
+ * weigh alike), from the 6 x 6 normal matrix g->M. With m, m_b >= 2 every
  * interface has the full stiffness of model.md and a relative motion of
  * joined blocks strains it, so the check is exact; m = 1 or m_b = 1
  * leave hinges, which BwMixedCheckMechanism finds. */
-static PetscErrorCode BwRestraintGroups3D(BwMixed mx, PetscInt ncomp, const PetscInt comp[], char motion[], size_t mlen, PetscErrorCode *ierr)
+static PetscErrorCode BwGroupVerdict3D(BwGroupSum *g, const PetscReal x0[3], PetscReal L, char fmt[], size_t len, PetscInt *fails)
 {
-  BwGeometry geom = mx->geom;
-  BwModel    model = mx->model;
-  PetscInt   nb = geom->nblocks;
-  PetscReal *x0, *lo, *hi, *M;
-  PetscInt  *count, *nfix;
-  char       list[512];
+  PetscReal lam[6], V[36], lmax = 0;
+  PetscInt  nfree = 0, count = g->nblocks;
+  char      what[1024] = "";
 
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc6(3 * ncomp, &x0, 3 * ncomp, &lo, 3 * ncomp, &hi, 36 * ncomp, &M, ncomp, &count, ncomp, &nfix));
-  for (PetscInt c = 0; c < 3 * ncomp; c++) lo[c] = PETSC_MAX_REAL, hi[c] = PETSC_MIN_REAL;
-  for (PetscInt b = 0; b < nb; b++) {
-    const PetscReal *cb = &geom->centroid[3 * b];
-    PetscInt         g  = comp[b];
-    count[g]++;
-    for (int c = 0; c < 3; c++) {
-      x0[3 * g + c] += cb[c];
-      lo[3 * g + c] = PetscMin(lo[3 * g + c], cb[c]);
-      hi[3 * g + c] = PetscMax(hi[3 * g + c], cb[c]);
+  *fails = 0;
+  BwJacobiEigen(6, g->M, lam, V);
+  for (int i = 0; i < 6; i++) lmax = PetscMax(lmax, lam[i]);
+  {
+    /* the null space, in a basis that reads: rows of (w', a) brought to
+     * reduced row echelon form, rotations first, so that a free rotation
+     * about an axis is that axis (X1, X2, X3 where it is one) and a free
+     * translation its direction, whatever basis the eigensolver gave */
+    PetscReal N[6][6];
+    PetscInt  k = 0, row = 0;
+    for (int i = 0; i < 6; i++) {
+      if (lam[i] > 1e-10 * PetscMax(lmax, 1)) continue;
+      for (int c = 0; c < 3; c++) N[k][c] = V[6 * (3 + c) + i], N[k][3 + c] = V[6 * c + i];
+      k++;
+    }
+    for (int col = 0; col < 6 && row < k; col++) {
+      PetscInt  piv = row;
+      PetscReal best = 0;
+      for (PetscInt r = row; r < k; r++)
+        if (PetscAbsReal(N[r][col]) > best) best = PetscAbsReal(N[r][col]), piv = r;
+      if (best < 1e-8) continue;
+      for (int c = 0; c < 6; c++) {
+        PetscReal t = N[row][c];
+        N[row][c]   = N[piv][c];
+        N[piv][c]   = t;
+      }
+      for (int c = 5; c >= 0; c--) N[row][c] /= N[row][col];
+      for (PetscInt r = 0; r < k; r++) {
+        PetscReal f = N[r][col];
+        if (r == row || f == 0) continue;
+        for (int c = 0; c < 6; c++) N[r][c] -= f * N[row][c];
+      }
+      row++;
+    }
+    for (PetscInt r = 0; r < k; r++) {
+      PetscReal a[3], w[3];
+      char      one[256];
+      for (int c = 0; c < 3; c++) {
+        w[c] = PetscAbsReal(N[r][c]) < 1e-12 ? 0 : N[r][c] / L;
+        a[c] = PetscAbsReal(N[r][3 + c]) < 1e-12 ? 0 : N[r][3 + c];
+      }
+      PetscCall(BwDescribeRigid3D(a, w, x0, L, one, sizeof(one)));
+      if (nfree) PetscCall(PetscStrlcat(what, ", ", sizeof(what)));
+      PetscCall(PetscStrlcat(what, one, sizeof(what)));
+      nfree++;
     }
   }
-  for (PetscInt g = 0; g < ncomp; g++)
-    for (int c = 0; c < 3; c++) x0[3 * g + c] /= count[g];
-  for (PetscInt b = 0; b < nb; b++) {
-    PetscInt  g = comp[b];
-    PetscReal L = 0, r[3];
-    for (int c = 0; c < 3; c++) L = PetscMax(L, hi[3 * g + c] - lo[3 * g + c]);
-    L = PetscMax(L, BwGeometryBlockSize(geom, b));
-    for (int c = 0; c < 3; c++) r[c] = (geom->centroid[3 * b + c] - x0[3 * g + c]) / L;
+  if (!nfree) PetscFunctionReturn(PETSC_SUCCESS);
+  *fails = 1;
+  if (!g->nfix) PetscCall(PetscSNPrintf(fmt, len, "the assembly is not restrained: block%s %%s (%" PetscInt_FMT " block%s) %s no path of interfaces to a support; free motion: rigid translation and rotation", count > 1 ? "s" : "", count, count > 1 ? "s" : "", count > 1 ? "have" : "has"));
+  else PetscCall(PetscSNPrintf(fmt, len, "the assembly is not restrained: block%s %%s (%" PetscInt_FMT " block%s) %s held only by %" PetscInt_FMT " prescribed dofs that leave %" PetscInt_FMT " rigid motion%s free; free motion: %s", count > 1 ? "s" : "", count, count > 1 ? "s" : "", count > 1 ? "are" : "is", g->nfix, nfree, nfree > 1 ? "s" : "", what));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* 3D, second round: each group's mean centroid x0 and size L from its
+ * home to every rank with blocks in it, and the constraint rows' normal
+ * matrix of the owned blocks back home. */
+typedef struct {
+  PetscInt          nhome;
+  const BwGroupSum *home;
+} BwHomeGroups;
+
+static PetscErrorCode BwGroupFrameAnswer(void *ctx, PetscInt label, void *ans)
+{
+  BwHomeGroups *h  = (BwHomeGroups *)ctx;
+  PetscReal    *xl = (PetscReal *)ans;
+  PetscInt      at = -1, lo = 0, hi = h->nhome;
+
+  PetscFunctionBeginUser;
+  while (hi - lo > 1) { /* home[] ascends in label */
+    PetscInt mid = (lo + hi) / 2;
+    if (h->home[mid].label <= label) lo = mid;
+    else hi = mid;
+  }
+  if (h->nhome && h->home[lo].label == label) at = lo;
+  PetscCheck(at >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "group %" PetscInt_FMT " asked of a rank that is not its home", label);
+  xl[3] = h->home[at].first_size;
+  for (int c = 0; c < 3; c++) {
+    xl[c] = h->home[at].sum[c] / h->home[at].nblocks;
+    xl[3] = PetscMax(xl[3], h->home[at].hi[c] - h->home[at].lo[c]);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwGroupsNormal3D(BwMixed mx, PetscInt nloc, BwGroupSum loc[], const PetscInt which[], PetscInt nhome, BwGroupSum home[])
+{
+  BwGeometry   g = mx->geom;
+  BwHomeGroups h = {nhome, home};
+  PetscMPIInt  size, *dest;
+  PetscInt    *key, nback;
+  PetscReal   *xl;
+  BwGroupSum  *back;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(mx->comm, &size));
+  PetscCall(PetscMalloc3(nloc + 1, &dest, nloc + 1, &key, 4 * nloc + 4, &xl));
+  for (PetscInt q = 0; q < nloc; q++) {
+    key[q]  = loc[q].label;
+    dest[q] = (PetscMPIInt)(loc[q].label % size);
+  }
+  PetscCall(BwQueryBytes(mx->comm, nloc, dest, key, 4 * sizeof(PetscReal), BwGroupFrameAnswer, &h, xl));
+  /* only M goes home now: the other figures were summed in the first round */
+  for (PetscInt q = 0; q < nloc; q++) BwGroupInit(&loc[q], key[q]);
+  for (PetscInt b = 0; b < g->nown_blocks; b++) {
+    const PetscInt q = which[b];
+    BwGroupSum    *r = &loc[q];
+    PetscReal      rr[3];
+    for (int c = 0; c < 3; c++) rr[c] = (g->centroid[3 * b + c] - xl[4 * q + c]) / xl[4 * q + 3];
     for (int c = 0; c < 6; c++) {
       PetscReal row[6] = {0, 0, 0, 0, 0, 0};
-      if (!model->prescribed[6 * b + c]) continue;
-      nfix[g]++;
+      if (!mx->model->prescribed[6 * b + c]) continue;
       if (c < 3) {
         /* (w x r)_c = sum_j eps_cjk w_j r_k; w' = w L */
-        row[c]                 = 1;
-        row[3 + (c + 1) % 3] = r[(c + 2) % 3];
-        row[3 + (c + 2) % 3] = -r[(c + 1) % 3];
+        row[c]               = 1;
+        row[3 + (c + 1) % 3] = rr[(c + 2) % 3];
+        row[3 + (c + 2) % 3] = -rr[(c + 1) % 3];
       } else row[c] = 1;
       for (int i = 0; i < 6; i++)
-        for (int j = 0; j < 6; j++) M[36 * g + 6 * i + j] += row[i] * row[j];
+        for (int j = 0; j < 6; j++) r->M[6 * i + j] += row[i] * row[j];
     }
   }
-  *ierr = PETSC_SUCCESS;
-  for (PetscInt g = 0; g < ncomp && !*ierr; g++) {
-    PetscReal lam[6], V[36], lmax = 0, L = 0;
-    PetscInt  nfree = 0, n, first = -1;
-    char      what[1024] = "";
+  PetscCall(BwGroupsToHome(mx->comm, nloc, loc, &nback, &back));
+  for (PetscInt q = 0, at = 0; q < nback; q++) {
+    while (at < nhome && home[at].label < back[q].label) at++;
+    PetscCheck(at < nhome && home[at].label == back[q].label, PETSC_COMM_SELF, PETSC_ERR_PLIB, "group %" PetscInt_FMT " came home twice", back[q].label);
+    PetscCall(PetscArraycpy(home[at].M, back[q].M, 36));
+  }
+  PetscCall(PetscFree(back));
+  PetscCall(PetscFree3(dest, key, xl));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-    for (PetscInt b = 0; b < nb && first < 0; b++)
-      if (comp[b] == g) first = b;
-    for (int c = 0; c < 3; c++) L = PetscMax(L, hi[3 * g + c] - lo[3 * g + c]);
-    L = PetscMax(L, BwGeometryBlockSize(geom, first));
-    BwJacobiEigen(6, &M[36 * g], lam, V);
-    for (int i = 0; i < 6; i++) lmax = PetscMax(lmax, lam[i]);
-    {
-      /* the null space, in a basis that reads: rows of (w', a) brought to
-       * reduced row echelon form, rotations first, so that a free rotation
-       * about an axis is that axis (X1, X2, X3 where it is one) and a free
-       * translation its direction, whatever basis the eigensolver gave */
-      PetscReal N[6][6];
-      PetscInt  k = 0, row = 0;
-      for (int i = 0; i < 6; i++) {
-        if (lam[i] > 1e-10 * PetscMax(lmax, 1)) continue;
-        for (int c = 0; c < 3; c++) N[k][c] = V[6 * (3 + c) + i], N[k][3 + c] = V[6 * c + i];
-        k++;
-      }
-      for (int col = 0; col < 6 && row < k; col++) {
-        PetscInt  piv = row;
-        PetscReal best = 0;
-        for (PetscInt r = row; r < k; r++)
-          if (PetscAbsReal(N[r][col]) > best) best = PetscAbsReal(N[r][col]), piv = r;
-        if (best < 1e-8) continue;
-        for (int c = 0; c < 6; c++) {
-          PetscReal t = N[row][c];
-          N[row][c]   = N[piv][c];
-          N[piv][c]   = t;
-        }
-        for (int c = 5; c >= 0; c--) N[row][c] /= N[row][col];
-        for (PetscInt r = 0; r < k; r++) {
-          PetscReal f = N[r][col];
-          if (r == row || f == 0) continue;
-          for (int c = 0; c < 6; c++) N[r][c] -= f * N[row][c];
-        }
-        row++;
-      }
-      for (PetscInt r = 0; r < k; r++) {
-        PetscReal a[3], w[3];
-        char      one[256];
-        for (int c = 0; c < 3; c++) {
-          w[c] = PetscAbsReal(N[r][c]) < 1e-12 ? 0 : N[r][c] / L;
-          a[c] = PetscAbsReal(N[r][3 + c]) < 1e-12 ? 0 : N[r][3 + c];
-        }
-        PetscCall(BwDescribeRigid3D(a, w, &x0[3 * g], L, one, sizeof(one)));
-        if (nfree) PetscCall(PetscStrlcat(what, ", ", sizeof(what)));
-        PetscCall(PetscStrlcat(what, one, sizeof(what)));
-        nfree++;
-      }
-    }
-    if (!nfree) continue;
-    PetscCall(BwBlockList(nb, comp, g, first, list, sizeof(list), &n));
-    *ierr = PETSC_ERR_USER_INPUT;
-    if (!nfix[g]) PetscCall(PetscSNPrintf(motion, mlen, "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s no path of interfaces to a support; free motion: rigid translation and rotation", n > 1 ? "s" : "", list, n, n > 1 ? "s" : "", n > 1 ? "have" : "has"));
-    else PetscCall(PetscSNPrintf(motion, mlen, "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s held only by %" PetscInt_FMT " prescribed dofs that leave %" PetscInt_FMT " rigid motion%s free; free motion: %s", n > 1 ? "s" : "", list, n, n > 1 ? "s" : "", n > 1 ? "are" : "is", nfix[g], nfree, nfree > 1 ? "s" : "", what));
-  }
-  PetscCall(PetscFree6(x0, lo, hi, M, count, nfix));
+/* The first failing candidate over all ranks (lowest key; PETSC_MAX_INT:
+ * none), its message from the rank that has it, on every rank. */
+static PetscErrorCode BwRestraintFirst(MPI_Comm comm, PetscInt key, const char msg[], char out[], size_t len, PetscInt *first)
+{
+  PetscInt    g;
+  PetscMPIInt rank, mine, from;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPIU_Allreduce(&key, &g, 1, MPIU_INT, MPI_MIN, comm));
+  *first = g;
+  if (g == PETSC_MAX_INT) PetscFunctionReturn(PETSC_SUCCESS);
+  mine = key == g ? rank : PETSC_MPI_INT_MAX;
+  PetscCallMPI(MPI_Allreduce(&mine, &from, 1, MPI_INT, MPI_MIN, comm));
+  if (rank == from) PetscCall(PetscStrncpy(out, msg, len));
+  PetscCallMPI(MPI_Bcast(out, (PetscMPIInt)len, MPI_CHAR, from, comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwMixedCheckRestraint(BwMixed mx)
 {
-  BwGeometry geom = mx->geom;
-  BwModel    model = mx->model;
-  PetscInt   nb = geom->nblocks, *comp, *stack, ncomp = 0;
-  BwGroup   *grp;
-  char       list[512], motion[1536];
-  PetscErrorCode ierr = PETSC_SUCCESS;
+  BwGeometry  geom = mx->geom;
+  BwModel     model = mx->model;
+  PetscInt   *label, nloc = 0, nhome = 0, *which = NULL, bad = PETSC_MAX_INT, first;
+  BwGroupSum *loc, *home;
+  char        fmt[1536] = "", msg[1536] = "", list[512];
+  PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc2(nb, &comp, nb, &stack));
-  for (PetscInt b = 0; b < nb; b++) comp[b] = -1;
-  for (PetscInt b0 = 0; b0 < nb; b0++) {
-    PetscInt top = 0;
-    if (comp[b0] >= 0) continue;
-    comp[b0]     = ncomp;
-    stack[top++] = b0;
-    while (top) {
-      PetscInt b = stack[--top];
-      for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
-        PetscInt k = mx->adj[a], o = geom->pair[2 * k] == b ? geom->pair[2 * k + 1] : geom->pair[2 * k];
-        if (comp[o] < 0) {
-          comp[o]      = ncomp;
-          stack[top++] = o;
-        }
+  PetscCallMPI(MPI_Comm_rank(mx->comm, &rank));
+  PetscCall(PetscMalloc1(geom->nblocks + 1, &label));
+  PetscCall(BwRestraintLabels(mx, label));
+  PetscCall(BwGroupsLocal(mx, label, &nloc, &loc, &which));
+  {
+    /* the first round travels home; in 3D the second needs loc[] again */
+    BwGroupSum *copy;
+    PetscCall(PetscMalloc1(nloc + 1, &copy));
+    PetscCall(PetscArraycpy(copy, loc, nloc));
+    PetscCall(BwGroupsToHome(mx->comm, nloc, copy, &nhome, &home));
+    PetscCall(PetscFree(copy));
+  }
+  if (geom->dim == 3) PetscCall(BwGroupsNormal3D(mx, nloc, loc, which, nhome, home));
+
+  /* 1. rigid motions of each group: the first failing group (lowest label) */
+  for (PetscInt q = 0; q < nhome && bad == PETSC_MAX_INT; q++) {
+    PetscInt fails;
+    if (geom->dim == 3) {
+      PetscReal x0[3], L = 0;
+      for (int c = 0; c < 3; c++) {
+        x0[c] = home[q].sum[c] / home[q].nblocks;
+        L     = PetscMax(L, home[q].hi[c] - home[q].lo[c]);
       }
-    }
-    ncomp++;
+      L = PetscMax(L, home[q].first_size);
+      PetscCall(BwGroupVerdict3D(&home[q], x0, L, fmt, sizeof(fmt), &fails));
+    } else PetscCall(BwGroupVerdict2D(&home[q], fmt, sizeof(fmt), &fails));
+    if (fails) bad = home[q].label;
   }
-  if (geom->dim == 3) {
-    PetscCall(BwRestraintGroups3D(mx, ncomp, comp, motion, sizeof(motion), &ierr));
-    PetscCall(PetscFree2(comp, stack));
-    PetscCheck(!ierr, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s", motion);
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
-  PetscCall(PetscCalloc1(ncomp, &grp));
-  for (PetscInt c = 0; c < ncomp; c++) {
-    grp[c].first = -1;
-    grp[c].xmin = grp[c].ymin = grp[c].y1[0] = grp[c].x2[0] = PETSC_MAX_REAL;
-    grp[c].xmax = grp[c].ymax = grp[c].y1[1] = grp[c].x2[1] = PETSC_MIN_REAL;
-  }
-  for (PetscInt b = 0; b < nb; b++) {
-    BwGroup        *g  = &grp[comp[b]];
-    const PetscReal cx = geom->centroid[2 * b], cy = geom->centroid[2 * b + 1];
-    if (g->first < 0) g->first = b;
-    g->nblocks++;
-    g->x0 += cx;
-    g->y0 += cy;
-    g->area += geom->area[b];
-    g->xmin = PetscMin(g->xmin, cx);
-    g->xmax = PetscMax(g->xmax, cx);
-    g->ymin = PetscMin(g->ymin, cy);
-    g->ymax = PetscMax(g->ymax, cy);
-    for (PetscInt c = 0; c < 3; c++) {
-      if (!model->prescribed[3 * b + c]) {
-        g->nfree++;
-        continue;
-      }
-      g->n[c]++;
-      if (c == 0) {
-        g->y1[0] = PetscMin(g->y1[0], cy);
-        g->y1[1] = PetscMax(g->y1[1], cy);
-      } else if (c == 1) {
-        g->x2[0] = PetscMin(g->x2[0], cx);
-        g->x2[1] = PetscMax(g->x2[1], cx);
-      }
-    }
-  }
-  for (PetscInt k = 0; k < geom->ninterfaces; k++) {
-    PetscInt  i = geom->pair[2 * k], j = geom->pair[2 * k + 1];
-    PetscBool touches = PETSC_FALSE; /* a free dof: its 2 rows constrain something */
-    for (PetscInt c = 0; c < 3; c++) touches = (PetscBool)(touches || !model->prescribed[3 * i + c] || !model->prescribed[3 * j + c]);
-    if (touches) grp[comp[i]].nrows += 2;
+  PetscCall(BwRestraintFirst(mx->comm, bad, fmt, msg, sizeof(msg), &first));
+  if (first != PETSC_MAX_INT) {
+    PetscCall(BwGroupList(mx, label, first, 0, list, sizeof(list)));
+    if (rank == 0) PetscCall(PetscSNPrintf(fmt, sizeof(fmt), msg, list));
+    PetscCallMPI(MPI_Bcast(fmt, sizeof(fmt), MPI_CHAR, 0, mx->comm));
+    PetscCall(PetscFree(home));
+    PetscCall(PetscFree(loc));
+    PetscCall(PetscFree(which));
+    PetscCall(PetscFree(label));
+    SETERRQ(mx->comm, PETSC_ERR_USER_INPUT, "%s", fmt);
   }
 
-  /* 1. rigid motions of each group */
-  for (PetscInt c = 0; c < ncomp && !ierr; c++) {
-    BwGroup  *g = &grp[c];
-    PetscReal size = PetscMax(PetscMax(g->xmax - g->xmin, g->ymax - g->ymin), PetscSqrtReal(g->area)), tol = 1e-9 * size;
-    PetscBool tx = (PetscBool)(g->n[0] == 0), ty = (PetscBool)(g->n[1] == 0);
-    PetscBool rot = (PetscBool)(g->n[2] == 0 && (g->n[0] == 0 || g->y1[1] - g->y1[0] <= tol) && (g->n[1] == 0 || g->x2[1] - g->x2[0] <= tol));
-    PetscInt  count;
-
-    if (!tx && !ty && !rot) continue;
-    g->x0 /= g->nblocks;
-    g->y0 /= g->nblocks;
-    PetscCall(BwBlockList(nb, comp, c, g->first, list, sizeof(list), &count));
-    if (tx && ty && rot) {
-      ierr = PETSC_ERR_USER_INPUT;
-      PetscCall(PetscSNPrintf(motion, sizeof(motion), "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s no path of interfaces to a support; free motion: rigid translation and rotation", count > 1 ? "s" : "", list, count, count > 1 ? "s" : "", count > 1 ? "have" : "has"));
-      break;
-    }
-    {
-      char what[256] = "";
-      if (tx) PetscCall(PetscStrlcat(what, "translation along x (u1)", sizeof(what)));
-      if (ty) PetscCall(PetscStrlcat(what, tx ? ", translation along y (u2)" : "translation along y (u2)", sizeof(what)));
-      if (rot) {
-        char r[128];
-        PetscCall(PetscSNPrintf(r, sizeof(r), "%srotation about (%g, %g)", tx || ty ? ", " : "", (double)(g->n[1] ? g->x2[0] : g->x0), (double)(g->n[0] ? g->y1[0] : g->y0)));
-        PetscCall(PetscStrlcat(what, r, sizeof(what)));
-      }
-      ierr = PETSC_ERR_USER_INPUT;
-      PetscCall(PetscSNPrintf(motion, sizeof(motion), "the assembly is not restrained: block%s %s (%" PetscInt_FMT " block%s) %s held only by prescribed dofs (u1 on %" PetscInt_FMT ", u2 on %" PetscInt_FMT ", w on %" PetscInt_FMT " block%s) that leave a rigid motion free; free motion: %s", count > 1 ? "s" : "", list, count, count > 1 ? "s" : "", count > 1 ? "are" : "is", g->n[0], g->n[1], g->n[2], g->n[2] == 1 ? "" : "s", what));
-    }
-  }
-
-  /* 2. hinges */
-  if (!ierr && mx->m == 1) {
-    for (PetscInt b = 0; b < nb && !ierr; b++) {
+  /* 2. hinges (m = 1) */
+  if (mx->m == 1 && geom->dim == 2) {
+    /* a) an owned block held only at one point: the lowest global id */
+    bad = PETSC_MAX_INT;
+    for (PetscInt b = 0; b < geom->nown_blocks && bad == PETSC_MAX_INT; b++) {
       PetscInt         a0 = mx->adj_offsets[b], a1 = mx->adj_offsets[b + 1];
       const PetscReal *P, cx = geom->centroid[2 * b], cy = geom->centroid[2 * b + 1];
       PetscReal        tol = 1e-9 * PetscSqrtReal(geom->area[b]);
@@ -394,23 +640,43 @@ PetscErrorCode BwMixedCheckRestraint(BwMixed mx)
       if (!pin) continue;
       if (model->prescribed[3 * b + 2] || (model->prescribed[3 * b] && PetscAbsReal(cy - P[1]) > tol) || (model->prescribed[3 * b + 1] && PetscAbsReal(cx - P[0]) > tol)) continue;
       {
-        PetscInt k = mx->adj[a0];
-        ierr       = PETSC_ERR_USER_INPUT;
-        PetscCall(PetscSNPrintf(motion, sizeof(motion), "the assembly is a mechanism: block %" PetscInt_FMT " is held only at G = (%g, %g) (interface %" PetscInt_FMT ", blocks %" PetscInt_FMT " and %" PetscInt_FMT "%s), and with discretization.m = 1 an interface carries no moment (a hinge); free motion: rotation of block %" PetscInt_FMT " about (%g, %g); use m >= 2", b, (double)P[0], (double)P[1], k, geom->pair[2 * k], geom->pair[2 * k + 1], a1 - a0 > 1 ? ", and others through the same point" : "", b, (double)P[0], (double)P[1]));
+        PetscInt k = mx->adj[a0]; /* its first interface (adj ascends in global id) */
+        bad        = geom->gblock[b];
+        PetscCall(PetscSNPrintf(fmt, sizeof(fmt), "the assembly is a mechanism: block %" PetscInt_FMT " is held only at G = (%g, %g) (interface %" PetscInt_FMT ", blocks %" PetscInt_FMT " and %" PetscInt_FMT "%s), and with discretization.m = 1 an interface carries no moment (a hinge); free motion: rotation of block %" PetscInt_FMT " about (%g, %g); use m >= 2", bad, (double)geom->center[2 * k], (double)geom->center[2 * k + 1], geom->giface[k], geom->gblock[geom->pair[2 * k]], geom->gblock[geom->pair[2 * k + 1]], a1 - a0 > 1 ? ", and others through the same point" : "", bad, (double)geom->center[2 * k], (double)geom->center[2 * k + 1]));
       }
     }
-    for (PetscInt c = 0; c < ncomp && !ierr; c++) {
-      BwGroup *g = &grp[c];
-      PetscInt count;
+    PetscCall(BwRestraintFirst(mx->comm, bad, fmt, msg, sizeof(msg), &first));
+    if (first != PETSC_MAX_INT) {
+      PetscCall(PetscFree(home));
+      PetscCall(PetscFree(loc));
+      PetscCall(PetscFree(which));
+      PetscCall(PetscFree(label));
+      SETERRQ(mx->comm, PETSC_ERR_USER_INPUT, "%s", msg);
+    }
+    /* b) more free dofs than hinge constraints in a group */
+    bad = PETSC_MAX_INT;
+    for (PetscInt q = 0; q < nhome && bad == PETSC_MAX_INT; q++) {
+      const BwGroupSum *g = &home[q];
       if (g->nfree <= g->nrows) continue;
-      PetscCall(BwBlockList(nb, comp, c, g->first, list, sizeof(list), &count));
-      ierr = PETSC_ERR_USER_INPUT;
-      PetscCall(PetscSNPrintf(motion, sizeof(motion), "the assembly is a mechanism: with discretization.m = 1 an interface carries no moment (a hinge at its centre G), and block%s %s (%" PetscInt_FMT " block%s) %s %" PetscInt_FMT " free dofs against %" PetscInt_FMT " hinge constraints (2 per interface); free motion: at least %" PetscInt_FMT " independent rotations about the interfaces' centres; use m >= 2", count > 1 ? "s" : "", list, count, count > 1 ? "s" : "", count > 1 ? "have" : "has", g->nfree, g->nrows, g->nfree - g->nrows));
+      bad = g->label;
+      PetscCall(PetscSNPrintf(fmt, sizeof(fmt), "the assembly is a mechanism: with discretization.m = 1 an interface carries no moment (a hinge at its centre G), and block%s %%s (%" PetscInt_FMT " block%s) %s %" PetscInt_FMT " free dofs against %" PetscInt_FMT " hinge constraints (2 per interface); free motion: at least %" PetscInt_FMT " independent rotations about the interfaces' centres; use m >= 2", g->nblocks > 1 ? "s" : "", g->nblocks, g->nblocks > 1 ? "s" : "", g->nblocks > 1 ? "have" : "has", g->nfree, g->nrows, g->nfree - g->nrows));
+    }
+    PetscCall(BwRestraintFirst(mx->comm, bad, fmt, msg, sizeof(msg), &first));
+    if (first != PETSC_MAX_INT) {
+      PetscCall(BwGroupList(mx, label, first, 0, list, sizeof(list)));
+      if (rank == 0) PetscCall(PetscSNPrintf(fmt, sizeof(fmt), msg, list));
+      PetscCallMPI(MPI_Bcast(fmt, sizeof(fmt), MPI_CHAR, 0, mx->comm));
+      PetscCall(PetscFree(home));
+      PetscCall(PetscFree(loc));
+      PetscCall(PetscFree(which));
+      PetscCall(PetscFree(label));
+      SETERRQ(mx->comm, PETSC_ERR_USER_INPUT, "%s", fmt);
     }
   }
-  PetscCall(PetscFree(grp));
-  PetscCall(PetscFree2(comp, stack));
-  PetscCheck(!ierr, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s", motion);
+  PetscCall(PetscFree(home));
+  PetscCall(PetscFree(loc));
+  PetscCall(PetscFree(which));
+  PetscCall(PetscFree(label));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -445,13 +711,13 @@ static PetscErrorCode BwDescribeMotion(BwGeometry geom, PetscInt b, const PetscR
      * block's size from an axis is on it */
     for (int c = 0; c < 2; c++)
       if (PetscAbsReal(P[c]) < 1e-8 * r) P[c] = 0;
-    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " rotates about (%.6g, %.6g)", b, (double)P[0], (double)P[1]));
+    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " rotates about (%.6g, %.6g)", geom->gblock[b], (double)P[0], (double)P[1]));
   } else {
     PetscReal l = PetscSqrtReal(q[0] * q[0] + q[1] * q[1]);
     PetscReal d[2] = {q[0] / l, q[1] / l};
     for (int c = 0; c < 2; c++)
       if (PetscAbsReal(d[c]) < 1e-8) d[c] = 0;
-    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " translates along (%.3g, %.3g)", b, (double)d[0], (double)d[1]));
+    PetscCall(PetscSNPrintf(buf, len, "block %" PetscInt_FMT " translates along (%.3g, %.3g)", geom->gblock[b], (double)d[0], (double)d[1]));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -466,12 +732,11 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
   Mat                A;
   KSP                ksp;
   PC                 pc;
-  Vec                x, y, all;
-  VecScatter         sct;
+  Vec                x, y;
   PetscReal          snorm, rho, *q, mmax = 0;
   PetscScalar        dot;
   KSPConvergedReason reason = KSP_CONVERGED_ITERATING;
-  PetscInt           lo, hi, nb = geom->nblocks, nmove = 0, *moving, nd = mx->nd;
+  PetscInt           lo, hi, nown = geom->nown_blocks, nmove = 0, *moving, nd = mx->nd;
   const PetscScalar *a;
   PetscScalar       *xa;
   char               list[512] = "", motion[1024] = "";
@@ -524,46 +789,79 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
     PetscFunctionReturn(PETSC_SUCCESS);
   }
 
-  /* the eigenvector in physical dofs, q = diag(S)^{-1/2} q~, on every rank */
-  PetscCall(VecGetArray(x, &xa));
-  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-    PetscInt b = mx->own_blocks[e];
-    for (PetscInt c = 0; c < nd && mx->qrow[b] >= 0; c++) xa[mx->qrow[b] + c - lo] *= mx->model->prescribed[nd * b + c] ? 0 : mx->qscale[nd * b + c];
-  }
-  PetscCall(VecRestoreArray(x, &xa));
-  PetscCall(VecScatterCreateToAll(x, &sct, &all));
-  PetscCall(VecScatterBegin(sct, x, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(sct, x, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterDestroy(&sct));
-  PetscCall(PetscMalloc2(nd * nb, &q, nb, &moving));
-  PetscCall(VecGetArrayRead(all, &a));
-  for (PetscInt b = 0; b < nb; b++) {
-    for (PetscInt c = 0; c < nd; c++) q[nd * b + c] = mx->qrow[b] >= 0 ? PetscRealPart(a[mx->qrow[b] + c]) : 0;
+  /* the eigenvector in physical dofs, q = diag(S)^{-1/2} q~, per owned
+   * block; the moving blocks (more than 1e-3 of the largest motion) and the
+   * words for the first five, each rank its own, merged on rank 0 */
+  PetscCall(VecGetArrayRead(x, &a));
+  PetscCall(PetscMalloc2(nd * nown + 1, &q, nown + 1, &moving));
+  for (PetscInt b = 0; b < nown; b++) {
+    for (PetscInt c = 0; c < nd; c++) q[nd * b + c] = mx->qrow[b] >= 0 && !mx->model->prescribed[nd * b + c] ? PetscRealPart(a[mx->qrow[b] + c - lo]) * mx->qscale[nd * b + c] : 0;
     mmax = PetscMax(mmax, BwMotionSize(mx, b, &q[nd * b]));
   }
-  PetscCall(VecRestoreArrayRead(all, &a));
-  for (PetscInt b = 0; b < nb; b++)
-    if (BwMotionSize(mx, b, &q[nd * b]) > 1e-3 * mmax) moving[nmove++] = b;
-  for (PetscInt e = 0; e < PetscMin(nmove, 13); e++) {
-    char item[32];
-    PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, e ? ", " : "", moving[e]));
-    PetscCall(PetscStrlcat(list, e < 12 ? item : ", ...", sizeof(list)));
+  PetscCall(VecRestoreArrayRead(x, &a));
+  {
+    PetscReal gmax;
+    PetscCallMPI(MPIU_Allreduce(&mmax, &gmax, 1, MPIU_REAL, MPIU_MAX, mx->comm));
+    mmax = gmax;
   }
-  for (PetscInt e = 0; e < PetscMin(nmove, 5); e++) {
-    char item[260];
-    if (e == 4) PetscCall(PetscStrlcat(motion, ", ...", sizeof(motion)));
-    else {
-      if (nd == 6) {
-        char what[200];
-        PetscCall(BwDescribeRigid3D(&q[6 * moving[e]], &q[6 * moving[e] + 3], &geom->centroid[3 * moving[e]], BwGeometryBlockSize(geom, moving[e]), what, sizeof(what)));
-        PetscCall(PetscSNPrintf(item, sizeof(item), "block %" PetscInt_FMT ": %s", moving[e], what));
-      } else PetscCall(BwDescribeMotion(geom, moving[e], &q[3 * moving[e]], item, sizeof(item)));
-      if (e) PetscCall(PetscStrlcat(motion, ", ", sizeof(motion)));
-      PetscCall(PetscStrlcat(motion, item, sizeof(motion)));
+  for (PetscInt b = 0; b < nown; b++)
+    if (BwMotionSize(mx, b, &q[nd * b]) > 1e-3 * mmax) moving[nmove++] = b;
+  {
+    /* each rank's first 13 moving blocks (owned blocks ascend in global
+     * id) with the words of its first 5, to rank 0 */
+    typedef struct {
+      PetscInt gid;
+      char     what[200];
+    } BwMoving;
+    BwMoving   *mine, *all = NULL;
+    PetscMPIInt size, rank;
+    PetscInt    total;
+    PetscCallMPI(MPI_Comm_size(mx->comm, &size));
+    PetscCallMPI(MPI_Comm_rank(mx->comm, &rank));
+    PetscCallMPI(MPIU_Allreduce(&nmove, &total, 1, MPIU_INT, MPI_SUM, mx->comm));
+    PetscCall(PetscCalloc1(13, &mine));
+    for (PetscInt e = 0; e < 13; e++) {
+      mine[e].gid = e < nmove ? geom->gblock[moving[e]] : PETSC_MAX_INT;
+      if (e < PetscMin(nmove, 5)) {
+        PetscInt b = moving[e];
+        if (nd == 6) {
+          char what[160];
+          PetscCall(BwDescribeRigid3D(&q[6 * b], &q[6 * b + 3], &geom->centroid[3 * b], BwGeometryBlockSize(geom, b), what, sizeof(what)));
+          PetscCall(PetscSNPrintf(mine[e].what, sizeof(mine[e].what), "block %" PetscInt_FMT ": %s", geom->gblock[b], what));
+        } else PetscCall(BwDescribeMotion(geom, b, &q[3 * b], mine[e].what, sizeof(mine[e].what)));
+      }
     }
+    if (!rank) PetscCall(PetscMalloc1(13 * size, &all));
+    PetscCallMPI(MPI_Gather(mine, (PetscMPIInt)(13 * sizeof(BwMoving)), MPI_BYTE, all, (PetscMPIInt)(13 * sizeof(BwMoving)), MPI_BYTE, 0, mx->comm));
+    if (!rank) {
+      /* merged by global id: the lowest 13, the words of the lowest 5 */
+      for (PetscInt e = 0, shown = 0; e < 13 * size && shown < 13; shown++) {
+        PetscInt best = -1;
+        for (PetscInt f = 0; f < 13 * size; f++)
+          if (all[f].gid != PETSC_MAX_INT && (best < 0 || all[f].gid < all[best].gid)) best = f;
+        if (best < 0) break;
+        {
+          char item[32];
+          PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, shown ? ", " : "", all[best].gid));
+          PetscCall(PetscStrlcat(list, shown < 12 ? item : ", ...", sizeof(list)));
+        }
+        if (shown < 5) {
+          if (shown == 4) PetscCall(PetscStrlcat(motion, ", ...", sizeof(motion)));
+          else {
+            if (shown) PetscCall(PetscStrlcat(motion, ", ", sizeof(motion)));
+            PetscCall(PetscStrlcat(motion, all[best].what, sizeof(motion)));
+          }
+        }
+        all[best].gid = PETSC_MAX_INT;
+      }
+      PetscCall(PetscFree(all));
+    }
+    PetscCallMPI(MPI_Bcast(list, sizeof(list), MPI_CHAR, 0, mx->comm));
+    PetscCallMPI(MPI_Bcast(motion, sizeof(motion), MPI_CHAR, 0, mx->comm));
+    PetscCall(PetscFree(mine));
+    nmove = total;
   }
   PetscCall(PetscFree2(q, moving));
-  PetscCall(VecDestroy(&all));
   PetscCall(VecDestroy(&x));
   PetscCall(VecDestroy(&y));
   {
@@ -572,11 +870,15 @@ PetscErrorCode BwMixedCheckMechanism(BwMixed mx, const char how[])
      * and layered contrasts on a 6 x 4 wall read as mechanisms here, while a
      * real128 Cholesky factors them): the message says both. */
     BwModel   model = mx->model;
-    PetscReal kmin = PETSC_MAX_REAL, kmax = 0;
+    PetscReal kmin = PETSC_MAX_REAL, kmax = 0, g[2];
     for (PetscInt k = 0; k < geom->ninterfaces; k++) {
       kmin = PetscMin(kmin, PetscMin(model->kn[k], model->kt[k]));
       kmax = PetscMax(kmax, PetscMax(model->kn[k], model->kt[k]));
     }
+    PetscCallMPI(MPIU_Allreduce(&kmin, &g[0], 1, MPIU_REAL, MPIU_MIN, mx->comm));
+    PetscCallMPI(MPIU_Allreduce(&kmax, &g[1], 1, MPIU_REAL, MPIU_MAX, mx->comm));
+    kmin = g[0];
+    kmax = g[1];
     if (kmax > 1e12 * kmin)
       SETERRQ(mx->comm, PETSC_ERR_USER_INPUT, "the assembly is numerically singular (%s): either it is a mechanism, or its joint stiffnesses, from %.1e to %.1e N/m^3 (a contrast of %.0e), differ by more than double precision resolves (about 1e12): block%s %s (%" PetscInt_FMT " block%s) move without deforming any joint at that precision (smallest eigenvalue %.1e of the scaled stiffness, largest about %.1e); free motion: %s", how, (double)kmin, (double)kmax, (double)(kmax / kmin), nmove > 1 ? "s" : "", list, nmove, nmove > 1 ? "s" : "", (double)rho, (double)snorm, motion);
   }

@@ -26,12 +26,16 @@ definitions (interface.md, "Additions of 2026-11-23 (past the peak)").
                  lambda = ft A_w - P0 and past it lambda = sigma A_w - P0, on
                  the closed form above with sigma = (lambda + P0)/A_w, falls
                  to zero where sigma = ft/2: the softened joint no longer
-                 carries the pull, and energy control goes on with the
-                 pattern pulling down (an equilibrium path: the run ends as
-                 interface.md fixes it). Every step past the peak, below
-                 zero too, on the closed form (1e-6 of u_peak); /solver
+                 carries the pull. With on_reversal: continue, energy
+                 control goes on with the pattern pulling down (an
+                 equilibrium path): every step past the peak, below zero
+                 too, on the closed form (1e-6 of u_peak); /solver
                  load_reversal_step the first step with lambda <= 0 (-1
-                 for the stack without the pull: snapback above).
+                 for the stack without the pull: snapback above). By
+                 default (on_reversal: stop) the same run ends at that
+                 step (the collapse): the same path to it (1e-9 of the
+                 peak), its state written as the last, stop_reason naming
+                 the sign change.
   capacity       the definitions on curves with a known answer: a
                  hardening-softening history (yield, 0.8 F_max fall,
                  snap-back drop) through blockwall's own output of a J4D
@@ -192,7 +196,7 @@ def exhausted(ranks):
     with tempfile.TemporaryDirectory() as tmp:
         scene = stack_scene(tmp, "dissipation", GF * AW / 120, pull=p0)
         out = os.path.join(tmp, "out.h5")
-        run(scene, ["-output_file", out], ranks)
+        run(scene, ["-output_file", out, "-analysis_pushover_on_reversal", "continue", "-output_steps", "all"], ranks)
         hist, solver = read_run(out)
         lam, u = hist["load_factor"], hist["monitor"]
         k = int(np.argmax(lam))
@@ -209,9 +213,22 @@ def exhausted(ranks):
         first = k + int(below[0])
         expect(int(solver["load_reversal_step"]) == first, f"load_reversal_step {solver['load_reversal_step']}, the first step with lambda <= 0 is {first}")
         expect(abs(float(solver["residual_load_factor"]) - lam[-1]) <= 1e-12 * lam[k], "residual_load_factor is not the last lambda")
+        # by default (on_reversal: stop) the same path ends at that step:
+        # the stack no longer carries the held pull
+        stopped = os.path.join(tmp, "stopped.h5")
+        run(scene, ["-output_file", stopped], ranks)
+        hs, ss = read_run(stopped)
+        expect(len(hs["load_factor"]) == first + 1, f"on_reversal: stop ended after {len(hs['load_factor']) - 1} steps, the sign changed at step {first}")
+        expect("changed sign" in ss["stop_reason"], f"stop_reason {ss['stop_reason']!r} does not name the sign change")
+        expect(int(ss["load_reversal_step"]) == first, f"load_reversal_step {ss['load_reversal_step']} with on_reversal: stop, expected {first}")
+        el = np.max(np.abs(hs["load_factor"] - lam[:first + 1])) / lam[k]
+        expect(el <= 1e-9, f"the stopped run's path differs from the continued one's by {el:.2e} of the peak")
+        with h5py.File(stopped, "r") as a, h5py.File(out, "r") as b:
+            ed = np.max(np.abs(a["blocks/displacement"][()] - b[f"steps/{first:06d}/blocks/displacement"][()])) / upk
+        expect(ed <= 1e-9, f"the stopped run's final state is not that of step {first} ({ed:.2e} of u_peak)")
         print(f"{ranks} rank(s): peak {lam[k]:.6e} (ft A_w - P0 = {FT * AW - p0:.6e}), {len(post)} steps past it on the closed form "
               f"to {eu:.1e} u_peak, lambda <= 0 from step {first} (load_reversal_step {solver['load_reversal_step']}) to {lam[-1] / p0:.3f} P0; "
-              f"{solver['stop_reason'][:40]}")
+              f"{solver['stop_reason'][:40]}; by default the run stops there: {ss['stop_reason'][:50]}")
 
 
 def capacity_case():

@@ -46,7 +46,6 @@ int main(int argc, char **argv)
   BwProblem    p;
   BwLog        log;
   BwNewton     nw;
-  PetscMPIInt *owner;
   PetscReal   *pattern, lam = 0, l1, l2, k0, cap = 950, um = 1e-6;
   PetscInt     top, substeps;
   PetscBool    ok;
@@ -65,13 +64,12 @@ int main(int argc, char **argv)
   PetscCall(BwGeometryCreate(p.comm, &p.geom));
   PetscCall(BwGeometrySetFromOptions(p.geom, p.scene));
   PetscCall(BwGeometrySetUp(p.geom, p.scene, p.model->law[BW_JOINT_BED]->thickness));
+  PetscCall(BwGeometryDistribute(p.geom, BW_PARTITION_AUTO));
   PetscCall(BwModelSetUp(p.model, p.geom, p.scene));
   PetscCall(BwSolverCreate(p.comm, &p.solver));
   PetscCall(BwSolverSetFromOptions(p.solver, p.scene));
   PetscCall(BwAnalysisSolverForJoints(&p));
-  PetscCall(BwPartitionBlocks(p.model, &owner));
-  PetscCall(BwMixedCreate(p.model, owner, &p.mixed));
-  PetscCall(PetscFree(owner));
+  PetscCall(BwMixedCreate(p.model, &p.mixed));
   PetscCall(BwMixedSetUp(p.mixed, BW_STORAGE_SHELL));
   PetscCall(BwSolverSetUp(p.solver, p.mixed));
 

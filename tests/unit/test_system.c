@@ -51,6 +51,7 @@ static PetscErrorCode ProblemCreate(BwTestProblem *p)
   PetscCall(BwGeometryCreate(PETSC_COMM_WORLD, &p->geom));
   PetscCall(BwGeometrySetFromOptions(p->geom, p->scene));
   PetscCall(BwGeometrySetUp(p->geom, p->scene, p->model->law[BW_JOINT_BED]->thickness));
+  PetscCall(BwGeometryDistribute(p->geom, BW_PARTITION_AUTO));
   PetscCall(BwModelSetUp(p->model, p->geom, p->scene));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -66,12 +67,9 @@ static PetscErrorCode ProblemDestroy(BwTestProblem *p)
 
 static PetscErrorCode MixedCreate(BwTestProblem *p, BwStorage storage, BwMixed *mx)
 {
-  PetscMPIInt *owner;
 
   PetscFunctionBeginUser;
-  PetscCall(BwPartitionBlocks(p->model, &owner));
-  PetscCall(BwMixedCreate(p->model, owner, mx));
-  PetscCall(PetscFree(owner));
+  PetscCall(BwMixedCreate(p->model, mx));
   PetscCall(BwMixedSetUp(*mx, storage));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
