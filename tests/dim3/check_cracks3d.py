@@ -11,7 +11,6 @@ part.
 
 usage: check_cracks3d.py"""
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -22,7 +21,7 @@ ROOT = os.path.join(HERE, "..", "..")
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, HERE)
-from bwrun import Failure, expect, read, run  # noqa: E402
+from bwrun import Failure, call, expect, read, run  # noqa: E402
 import blockwall as bw  # noqa: E402
 from blockwall.cracks3d import _area_centroid, plot_cracks3d, portion_polygons  # noqa: E402
 import check_nonlinear3d as n3  # noqa: E402
@@ -56,7 +55,7 @@ def main():
             expect(np.array_equal(c.state, want), f"{at}: the states drawn are not the file's")
             expect(np.array_equal(c.counts, np.bincount(want, minlength=4)), f"{at}: legend counts {c.counts}")
             expect(c.counts[1:].sum() > 0, f"{at}: no portion cracked")
-        p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "plot"), out], capture_output=True, text=True, timeout=600)
+        p = call([sys.executable, os.path.join(ROOT, "tools", "plot"), out], what="tools/plot")
         expect(p.returncode == 0, f"tools/plot: exit {p.returncode}\n{p.stdout}\n{p.stderr}")
         for name in ("tilt_history.png", "tilt_cracks_peak.png", "tilt_cracks_end.png"):
             path = os.path.join(tmp, name)

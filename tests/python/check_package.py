@@ -32,7 +32,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "geometry"))
-from bwrun import EXE, MPIEXEC, Failure, expect, rel_err  # noqa: E402
+from bwrun import EXE, MPIEXEC, Failure, budget, expect, rel_err  # noqa: E402
 import blockwall as bw  # noqa: E402
 import geomlib  # noqa: E402
 
@@ -112,7 +112,7 @@ def reader():
     scene = os.path.join(ROOT, "tests", "paper", "two_blocks.yaml")
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "r.h5")
-        bw.run(scene, ["-output_file", out], exe=EXE)
+        bw.run(scene, ["-output_file", out], exe=EXE, timeout=budget())
         res = bw.read(out)
         fields = {"vertices": "blocks/vertices", "offsets": "blocks/offsets", "centroid": "blocks/centroid",
                   "displacement": "blocks/displacement", "reaction": "blocks/reaction", "load": "blocks/load",
@@ -186,12 +186,12 @@ def launcher():
     env = bw.environment({})
     expect(env.get("OMPI_ALLOW_RUN_AS_ROOT") == "1" and env.get("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM") == "1", f"{env}")
     try:
-        bw.run(scene, ["-joints_E", "-1"], exe=EXE)
+        bw.run(scene, ["-joints_E", "-1"], exe=EXE, timeout=budget())
         raise Failure("a bad option did not raise")
     except bw.RunError as e:
         expect(e.result.returncode == 1 and "-joints_E must be > 0" in e.result.stderr, f"{e.result.returncode}: {e.result.stderr}")
-    a = bw.solve(scene, exe=EXE)
-    b = bw.solve(scene, ranks=2, exe=EXE, mpiexec=MPIEXEC)
+    a = bw.solve(scene, exe=EXE, timeout=budget())
+    b = bw.solve(scene, ranks=2, exe=EXE, mpiexec=MPIEXEC, timeout=budget())
     e = rel_err(b.displacement, a.displacement)
     expect(b.solver["ranks"] == 2 and e < 1e-12, f"2 ranks: {b.solver['ranks']}, {e:.1e}")
     print(f"commands {one[:3]}..., {three[:4]}...; RunError on a bad option; 2 ranks vs 1: {e:.1e}")
