@@ -198,6 +198,8 @@ def dry():
 
 
 if __name__ == "__main__":
+    if not sys.argv[1:]:  # nothing would be checked
+        sys.exit("check_file.py: name the case(s) to run")
     try:
         for case in sys.argv[1:]:
             globals()[case]()

@@ -96,8 +96,10 @@ if __name__ == "__main__":
     try:
         if sys.argv[1] == "separate":
             separate(int(sys.argv[2]))
-        else:
+        elif sys.argv[1] == "failed":
             failed()
+        else:  # not another case's checks under a mistyped name
+            sys.exit(f"check_cases.py: unknown case {sys.argv[1]!r} (separate R, failed)")
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
