@@ -15,7 +15,10 @@ BW_DEBS=(build-essential gfortran cmake ninja-build pkg-config
 # rendering needs, for the ParaView check of the XDMF files
 # (tests/post/check_paraview.py; CMake leaves it out without them). About
 # 200 MB to download and 1.2 GB installed, so tools/demo does not pay for them.
-BW_TEST_DEBS=(python3-paraview xvfb)
+# gdb: the suite's watchdog (python/blockwall/launch.py) prints a backtrace of
+# every rank of a run that hangs before it kills it (without gdb, only the
+# run's last lines).
+BW_TEST_DEBS=(python3-paraview xvfb gdb)
 
 bw_install_debs() {
   local missing=() wanted=("${BW_DEBS[@]}")

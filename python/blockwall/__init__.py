@@ -18,7 +18,7 @@ checks blockwall makes, in Python), results (read a result file), launch
 (run blockwall with mpiexec), plots and summary (pictures and the table
 tools/plot prints), dxf (tools/import_dxf), accuracy (tools/error_vs_time)."""
 from .geometry import Geometry, box, prism, read_geometry, rectangle, write_geometry
-from .launch import RunError, RunResult, command, environment, find_executable, run, solve
+from .launch import RunError, RunResult, RunTimeout, call, command, environment, find_executable, run, solve, start
 from .results import Results, Step, load, read, read_datasets, rigid_displacement
 
 __version__ = "0.1.0"
@@ -30,7 +30,7 @@ _LAZY = {  # need matplotlib or ezdxf: imported on first use
     "import_dxf": "dxf", "DxfError": "dxf",
 }
 
-__all__ = ["Geometry", "read_geometry", "rectangle", "write_geometry", "RunError", "RunResult", "command",
+__all__ = ["Geometry", "read_geometry", "rectangle", "write_geometry", "RunError", "RunResult", "RunTimeout", "call", "start", "command",
            "environment", "find_executable", "run", "solve", "Results", "Step", "load", "read", "read_datasets",
            "rigid_displacement", *_LAZY]
 

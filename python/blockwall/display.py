@@ -16,6 +16,8 @@ import subprocess
 import sys
 import time
 
+from .launch import call
+
 # What pvpython prints when it could not open or use the display, as opposed
 # to failing in its own work (a bad file, an error in the script).
 _DISPLAY_FAILURES = ("bad X server connection", "CreateAWindow", "XOpenDisplay", "Could not open display",
@@ -83,15 +85,17 @@ def display_failed(p):
 
 
 def run_with_display(cmd, timeout=600, tries=6, env=None):
-    """subprocess.run(cmd) with a display: DISPLAY as it is when set, else an
-    Xvfb of our own per try; a try that died opening the display is repeated
-    on a new server, up to `tries` times. Returns the CompletedProcess."""
+    """Run cmd with a display: DISPLAY as it is when set, else an Xvfb of our
+    own per try; a try that died opening the display is repeated on a new
+    server, up to `tries` times. Each try is watched (launch.call: killed,
+    with a backtrace, past `timeout`). Returns the RunResult (returncode,
+    stdout, stderr)."""
     env = dict(os.environ if env is None else env)
     if env.get("DISPLAY"):
-        return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+        return call(cmd, timeout, env, what=os.path.basename(cmd[0]))
     for attempt in range(tries):
         with XServer() as x:
-            p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(env, DISPLAY=x.display))
+            p = call(cmd, timeout, dict(env, DISPLAY=x.display), what=os.path.basename(cmd[0]))
         if not display_failed(p):
             break
         print(f"X: pvpython could not open the display (try {attempt + 1} of {tries}); again with a new server",

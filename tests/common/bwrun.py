@@ -3,11 +3,22 @@ Python package of this checkout (python/blockwall: launch.py, results.py).
 
 The executable and mpiexec come from the environment set by ctest
 (BW_EXE, BW_MPIEXEC); every run writes into its own temporary directory.
-The names below are the tests' API: run, solve, read, rel_err, expect,
-Failure, EXE, ENV, MPIEXEC."""
+The names below are the tests' API: run, solve, call, start, budget, read,
+rel_err, expect, Failure, TimedOut, EXE, ENV, MPIEXEC.
+
+Every process a test starts goes through run, solve, call or start, and is
+watched (blockwall.launch.Watched): if it has not ended when the test's
+time is nearly up, the watchdog prints the process tree, a gdb backtrace of
+every rank and the run's last output lines, kills the process group, and
+the test fails with TimedOut. The test's time is ctest's TIMEOUT of it,
+which tests/CMakeLists.txt passes as BW_TEST_TIMEOUT; the watchdog fires
+max(30 s, 10 %) before it (the report's gdb runs take 10 s, at most
+blockwall.launch.GDB_SECONDS), so that a hang explains itself instead of
+being killed mute by ctest."""
 import os
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -23,9 +34,42 @@ class Failure(Exception):
     pass
 
 
-def run(scene, args=(), np_ranks=1, expect_ok=True, timeout=600):
-    """Run blockwall; returns (returncode, stdout, stderr)."""
-    p = blockwall.run(scene, args, np_ranks, exe=EXE, mpiexec=MPIEXEC, check=False, timeout=timeout)
+class TimedOut(Failure, blockwall.launch.RunTimeout):
+    """A watched process killed by the watchdog (its report is on stderr)."""
+
+
+_STARTED = time.monotonic()
+TEST_TIMEOUT = float(os.environ.get("BW_TEST_TIMEOUT") or 0) or None
+UNTIMED = 1500  # run by hand, outside ctest: ctest's own default
+
+
+def budget(timeout=None):
+    """Seconds a process started now may run: `timeout` if given, but never
+    past the test's deadline, max(30 s, 10 %) before ctest's TIMEOUT (time
+    for the watchdog's report). Past the deadline already: a failure at once."""
+    total = TEST_TIMEOUT or UNTIMED
+    left = _STARTED + total - max(30.0, 0.1 * total) - time.monotonic()
+    if left <= 0:
+        raise Failure(f"the test's time is up ({time.monotonic() - _STARTED:.0f} s of its TIMEOUT {total:.0f} s, "
+                      f"less the watchdog's margin) before it could start its next process")
+    return min(timeout, left) if timeout else left
+
+
+def start(cmd, timeout=None, env=None, cwd=None, what=None):
+    """Start a command watched (blockwall.launch.Watched: readline, proc,
+    wait); env None: this process's environment."""
+    return blockwall.launch.start(cmd, budget(timeout), env, cwd, what, error=TimedOut)
+
+
+def call(cmd, timeout=None, env=None, cwd=None, what=None):
+    """Run a command to its end, watched: (returncode, stdout, stderr) as
+    attributes, like subprocess.run(capture_output=True, text=True)."""
+    return start(cmd, timeout, env, cwd, what).wait()
+
+
+def run(scene, args=(), np_ranks=1, expect_ok=True, timeout=None):
+    """Run blockwall, watched; returns (returncode, stdout, stderr)."""
+    p = call(blockwall.command(scene, args, np_ranks, exe=EXE, mpiexec=MPIEXEC), timeout, ENV, what="blockwall")
     if expect_ok and p.returncode != 0:
         raise Failure(f"blockwall failed ({p.returncode}): {' '.join(p.cmd)}\n{p.stdout}\n{p.stderr}")
     return p.returncode, p.stdout, p.stderr

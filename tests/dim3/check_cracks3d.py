@@ -47,7 +47,6 @@ Checked against the HDF5 file, by this script's own arithmetic:
 usage: check_cracks3d.py matplotlib|pvpython"""
 import os
 import re
-import subprocess
 import sys
 import tempfile
 
@@ -58,7 +57,7 @@ ROOT = os.path.join(HERE, "..", "..")
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, HERE)
-from bwrun import Failure, expect, read, run  # noqa: E402
+from bwrun import Failure, call, expect, read, run  # noqa: E402
 import blockwall as bw  # noqa: E402
 from blockwall.cracks3d import _area_centroid, plot_cracks3d, portion_polygons  # noqa: E402
 import check_nonlinear3d as n3  # noqa: E402
@@ -364,8 +363,8 @@ def main(mode):
             env["PATH"] = os.path.join(tmp, "empty")
             os.makedirs(env["PATH"])
         extra, factor = (["--scale", "50"], 50.0) if mode == "matplotlib" else ([], scales[wall])
-        p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "plot"), out, "--outdir", outdir, *extra],
-                           capture_output=True, text=True, timeout=2 * TIMEOUT, env=env)
+        p = call([sys.executable, os.path.join(ROOT, "tools", "plot"), out, "--outdir", outdir, *extra],
+                 timeout=2 * TIMEOUT, env=env, what="tools/plot")
         expect(p.returncode == 0, f"tools/plot: exit {p.returncode}\n{p.stdout}\n{p.stderr}")
         for at in ("peak", "end"):
             line = re.search(rf"^crack pattern at the {at} .*, blocks warped x([0-9.e+-]+), drawn by (\w+): (.*)$", p.stdout, re.M)

@@ -26,7 +26,6 @@ against a reference that does not come from blockwall's solver:
 usage: check_gallery3d.py CASE
 """
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -36,14 +35,15 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..", "..")
 EX = os.path.join(ROOT, "examples")
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
-from bwrun import Failure, expect, solve  # noqa: E402
+from bwrun import Failure, call, expect, solve  # noqa: E402
 
 E, NU, E_J = 1.0e9, 0.2, 0.01
 
 
 def write_geometry(which, tmp):
     path = os.path.join(tmp, f"{which}.h5")
-    subprocess.run([sys.executable, os.path.join(EX, "walls3d.py"), which, path], check=True, capture_output=True)
+    p = call([sys.executable, os.path.join(EX, "walls3d.py"), which, path], what="examples/walls3d.py")
+    expect(p.returncode == 0, f"examples/walls3d.py {which}: exit {p.returncode}\n{p.stderr}")
     return path
 
 

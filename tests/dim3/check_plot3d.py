@@ -8,7 +8,6 @@ its XDMF is refused with one line.
 usage: check_plot3d.py"""
 import os
 import re
-import subprocess
 import sys
 import tempfile
 
@@ -17,7 +16,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..", "..")
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
-from bwrun import Failure, expect, run  # noqa: E402
+from bwrun import Failure, call, expect, run  # noqa: E402
 
 
 def main():
@@ -26,7 +25,7 @@ def main():
         out = os.path.join(tmp, "wall3.h5")
         run(os.path.join(HERE, "wall.yaml"), ["-output_file", out, "-output_xdmf", "true", "-loads_top_beam", "3000,-1.0e4,800,0,0,0"])
         for view in ("iso", "front", "top"):
-            p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "plot"), out, "--view", view], capture_output=True, text=True, timeout=600)
+            p = call([sys.executable, os.path.join(ROOT, "tools", "plot"), out, "--view", view], what="tools/plot")
             expect(p.returncode == 0, f"tools/plot --view {view}: exit {p.returncode}\n{p.stdout}\n{p.stderr}")
             expect(re.search(r"^\s+dimension\s+3$", p.stdout, re.M) and re.search(r"^\s+blocks\s+16$", p.stdout, re.M),
                    f"the summary does not give dimension 3 and 16 blocks:\n{p.stdout}")
@@ -38,7 +37,7 @@ def main():
             print(f"--view {view}: {png}, {ink:.0%} of the pixels drawn")
             expect(ink > 0.08, f"--view {view}: only {ink:.1%} of the picture is drawn")
         os.unlink(out[:-3] + ".xdmf")
-        p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "plot"), out], capture_output=True, text=True, timeout=600)
+        p = call([sys.executable, os.path.join(ROOT, "tools", "plot"), out], what="tools/plot")
         lines = [l for l in p.stderr.splitlines() if l.strip()]
         expect(p.returncode == 1 and len(lines) == 1 and "output.xdmf: true" in lines[0], f"without the XDMF: exit {p.returncode}, {p.stderr!r}")
         print(f"without the XDMF: {lines[0]}")

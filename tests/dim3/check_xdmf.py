@@ -56,7 +56,6 @@ usage: check_xdmf.py [RANKS]            (outside: runs blockwall, then pvpython)
        pvpython check_xdmf.py --inside-steps REF.npz XDMF
 """
 import os
-import subprocess
 import sys
 import tempfile
 import xml.etree.ElementTree as ET
@@ -270,9 +269,9 @@ def inside_steps(ref_path, xdmf):
 
 def pvpython(expect, mode, ref, xdmf):
     """This file's inside half under pvpython, without a display (data only)."""
+    from bwrun import call  # noqa: E402  (put on sys.path by the caller)
     env = {k: val for k, val in os.environ.items() if k != "DISPLAY"}
-    p = subprocess.run([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), mode, ref, xdmf],
-                       capture_output=True, text=True, env=env, timeout=600)
+    p = call([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), mode, ref, xdmf], env=env, what="pvpython")
     print(p.stdout)
     expect(p.returncode == 0, f"pvpython: exit {p.returncode}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
 

@@ -32,7 +32,6 @@ sums (k (h_u + e) against coordinates typed in mm), which changes the
 round-off of the geometry in the same way (measured below 1e-12)."""
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -43,7 +42,7 @@ ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "geometry"))
 sys.path.insert(0, os.path.join(ROOT, "examples"))
-from bwrun import Failure, expect, rel_err, solve  # noqa: E402
+from bwrun import Failure, call, expect, rel_err, solve  # noqa: E402
 from check_file import same  # noqa: E402
 import geomlib  # noqa: E402
 import blockwall as bw  # noqa: E402
@@ -54,7 +53,7 @@ SAME_TOL, GEN_TOL = 1e-12, 1e-10
 
 
 def import_dxf(drawing, target, *args):
-    p = subprocess.run([sys.executable, IMPORT, drawing, target, *args], capture_output=True, text=True)
+    p = call([sys.executable, IMPORT, drawing, target, *args], what="tools/import_dxf")
     return p.returncode, p.stdout, p.stderr
 
 

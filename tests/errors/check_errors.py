@@ -70,9 +70,8 @@ def check(name):
         if path:
             code, out, err = run(path, args, expect_ok=False)
         else:  # no -scene at all
-            import subprocess
-            from bwrun import ENV, EXE
-            p = subprocess.run([EXE, *map(str, args)], capture_output=True, text=True, env=ENV)
+            from bwrun import ENV, EXE, call
+            p = call([EXE, *map(str, args)], env=ENV)
             code, out, err = p.returncode, p.stdout, p.stderr
         lines = [l for l in err.splitlines() if l.strip()]
         expect(code != 0, f"{name}: exit code 0")

@@ -26,13 +26,12 @@ The faults come from tests/errors/failwrite.c, preloaded into the run
 its own lines about the failed job; blockwall's are counted."""
 import os
 import signal
-import subprocess
 import sys
 import tempfile
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
-from bwrun import ENV, EXE, MPIEXEC, Failure, expect  # noqa: E402
+from bwrun import ENV, EXE, MPIEXEC, Failure, TimedOut, call, expect, start  # noqa: E402
 
 SCENE = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
 SHIM = os.environ.get("BW_FAILWRITE", os.path.join(os.path.dirname(EXE), "..", "tests", "libbw_failwrite.so"))
@@ -70,7 +69,7 @@ def refused(case, procs, env_extra, want):
     with tempfile.TemporaryDirectory() as tmp:
         old, new = prepare(tmp)
         for target in (old, new):
-            p = subprocess.run(command(procs, target), capture_output=True, text=True, env=env, timeout=120)
+            p = call(command(procs, target), 120, env=env)
             ours = blockwall_lines(p.stderr)
             expect(p.returncode == 1, f"{case} on {procs}: exit {p.returncode} (expected 1; 139 is a crash)\n{p.stderr}")
             expect(len(ours) == 1 and want in ours[0], f"{case} on {procs}: blockwall's lines {ours}, expected one with {want!r}")
@@ -86,17 +85,17 @@ def interrupted(sig, procs):
     env = dict(ENV, LD_PRELOAD=os.path.abspath(SHIM), BW_WRITE_DELAY_MS="150")
     with tempfile.TemporaryDirectory() as tmp:
         old, _ = prepare(tmp)
-        p = subprocess.Popen(command(procs, old), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+        w = start(command(procs, old), env=env)
         t0, seen = time.time(), False
-        while time.time() - t0 < 60 and p.poll() is None and not seen:
+        while time.time() - t0 < 60 and w.poll() is None and not seen:
             seen = any(".tmp-" in n for n in os.listdir(tmp))
             time.sleep(0.01)
         expect(seen, f"signal {sig}: the temporary file never appeared")
-        p.send_signal(sig)
-        out, err = p.communicate(timeout=60)
+        w.proc.send_signal(sig)
+        p = w.wait(60)
         expect(p.returncode != 0, f"signal {sig} on {procs}: the run ended with exit 0")
-        ours = blockwall_lines(err)
-        expect(ours and "interrupted by a signal" in ours[0], f"signal {sig} on {procs}: blockwall said {ours}\n{err}")
+        ours = blockwall_lines(p.stderr)
+        expect(ours and "interrupted by a signal" in ours[0], f"signal {sig} on {procs}: blockwall said {ours}\n{p.stderr}")
         check_clean(tmp, old, f"signal {sig} on {procs} rank(s)")
         print(f"signal {signal.Signals(sig).name} on {procs} rank(s) while writing: exit {p.returncode}, {ours[0]}; nothing left behind")
 
@@ -105,11 +104,11 @@ def during_solve(procs):
     with tempfile.TemporaryDirectory() as tmp:
         target = os.path.join(tmp, "sub", "r.h5")
         big = ["-geometry_running_bond_courses", "300", "-geometry_running_bond_units_per_course", "300", "-progress"]
-        p = subprocess.Popen(command(procs, target, big), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
-        line = p.stdout.readline()  # the first phase (generate) has ended: the work is under way
+        w = start(command(procs, target, big), env=ENV)
+        line = w.readline()  # the first phase (generate) has ended: the work is under way
         expect("[blockwall]" in line, f"no progress line: {line!r}")
-        p.send_signal(signal.SIGTERM)
-        out, err = p.communicate(timeout=60)
+        w.proc.send_signal(signal.SIGTERM)
+        p = w.wait(60)
         expect(p.returncode != 0, "SIGTERM during the solve: exit 0")
         expect(os.listdir(tmp) == [], f"SIGTERM during the solve: left {os.listdir(tmp)}")
         print(f"SIGTERM after '{line.split()[1]}' on {procs} rank(s): exit {p.returncode}, nothing created")
@@ -121,14 +120,14 @@ def resume():
     big = ["-geometry_running_bond_courses", "200", "-geometry_running_bond_units_per_course", "200", "-progress"]
     with tempfile.TemporaryDirectory() as tmp:
         target = os.path.join(tmp, "r.h5")
-        p = subprocess.Popen(command(1, target, big), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
-        line = p.stdout.readline()
+        w = start(command(1, target, big), env=ENV)
+        line = w.readline()
         expect("[blockwall]" in line, f"no progress line: {line!r}")
-        p.send_signal(signal.SIGSTOP)
+        w.proc.send_signal(signal.SIGSTOP)
         time.sleep(1.0)
-        p.send_signal(signal.SIGCONT)
-        out, err = p.communicate(timeout=120)
-        expect(p.returncode == 0 and os.path.exists(target), f"stopped and resumed: exit {p.returncode}\n{err}")
+        w.proc.send_signal(signal.SIGCONT)
+        p = w.wait(120)
+        expect(p.returncode == 0 and os.path.exists(target), f"stopped and resumed: exit {p.returncode}\n{p.stderr}")
         print(f"SIGSTOP after '{line.split()[1]}', SIGCONT 1 s later: exit 0, result written")
 
 
@@ -138,63 +137,62 @@ PHASES = ["start", "generate", "partition", "assemble", "setup", "solve", "recov
 def launcher(sig, to):
     """For each phase: wait for the progress line of the phase before it
     (start: the first bytes of output are not awaited) and send the signal."""
+    if to not in ("mpiexec", "rank1"):
+        sys.exit(f"check_io.py launcher: the signal goes to mpiexec or rank1, not {to!r}")
     big = ["-geometry_running_bond_courses", "200", "-geometry_running_bond_units_per_course", "200", "-progress"]
     env = dict(ENV, LD_PRELOAD=os.path.abspath(SHIM), BW_WRITE_DELAY_MS="100")
     for after in PHASES:
         with tempfile.TemporaryDirectory() as tmp:
             old, _ = prepare(tmp)
-            p = subprocess.Popen(command(2, old, big), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
-                                 start_new_session=True)
+            w = start(command(2, old, big), env=env)  # a session of its own: killed as a group if it hangs
             seen = ""
             if after == "start":
                 time.sleep(0.5)
             else:
-                while p.poll() is None:
-                    line = p.stdout.readline()
+                while w.poll() is None:
+                    line = w.readline()
                     if not line or f"] {after} " in line:
                         seen = line
                         break
                 expect(seen, f"{after}: no progress line for it")
-            target = p.pid
+            target = w.pid
             if to == "rank1":
-                ranks = subprocess.run(["pgrep", "-P", str(p.pid)], capture_output=True, text=True).stdout.split()
+                ranks = call(["pgrep", "-P", str(w.pid)], 30).stdout.split()
                 kids = [int(r) for r in ranks]
                 # mpiexec's children are the ranks, in the order it started them
-                expect(len(kids) == 2, f"{after}: ranks of mpiexec {p.pid}: {kids}")
+                expect(len(kids) == 2, f"{after}: ranks of mpiexec {w.pid}: {kids}")
                 target = max(kids)
             t0 = time.time()
             os.kill(target, sig)
             try:
-                out, err = p.communicate(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(p.pid, signal.SIGKILL)
-                raise Failure(f"{signal.Signals(sig).name} to {to} after {after}: the run did not end within 30 s")
+                p = w.wait(30)
+            except TimedOut as e:  # the watchdog printed the ranks' backtraces
+                raise Failure(f"{signal.Signals(sig).name} to {to} after {after}: the run did not end within 30 s\n{e}")
             took = time.time() - t0
-            ours = blockwall_lines(err)
-            expect(p.returncode != 0, f"{signal.Signals(sig).name} to {to} after {after}: exit 0\n{out[-400:]}")
+            ours = blockwall_lines(p.stderr)
+            expect(p.returncode != 0, f"{signal.Signals(sig).name} to {to} after {after}: exit 0\n{p.stdout[-400:]}")
             expect(len(ours) == 1 and "interrupted by a signal" in ours[0],
-                   f"{signal.Signals(sig).name} to {to} after {after}: blockwall's lines {ours}\n{err}")
+                   f"{signal.Signals(sig).name} to {to} after {after}: blockwall's lines {ours}\n{p.stderr}")
             expect(took < 5, f"{signal.Signals(sig).name} to {to} after {after}: the run took {took:.1f} s to end")
             check_clean(tmp, old, f"{signal.Signals(sig).name} to {to} after {after}")
             print(f"{signal.Signals(sig).name} to {to} once '{after}' had ended: exit {p.returncode} after {took:.2f} s, "
                   f"one line, the earlier result untouched, nothing created")
 
 
+CASES = {
+    "full": lambda procs: refused("full", int(procs), {"BW_FAKE_FREE": "100000"}, "its file system has"),
+    "diskfull": lambda procs: refused("diskfull", int(procs), {"BW_FAIL_AFTER": "50000"}, "No space left on device"),
+    "signal": lambda sig, procs: interrupted(getattr(signal, sig), int(procs)),
+    "solve": lambda procs: during_solve(int(procs)),
+    "resume": resume,
+    "launcher": lambda sig, to: launcher(getattr(signal, sig), to),
+}
+
 if __name__ == "__main__":
+    if len(sys.argv) < 2 or sys.argv[1] not in CASES:
+        sys.exit(f"check_io.py: unknown case {sys.argv[1:2]} (cases: {', '.join(CASES)})")
     try:
-        case, args = sys.argv[1], sys.argv[2:]
-        if case == "full":
-            refused("full", int(args[0]), {"BW_FAKE_FREE": "100000"}, "its file system has")
-        elif case == "diskfull":
-            refused("diskfull", int(args[0]), {"BW_FAIL_AFTER": "50000"}, "No space left on device")
-        elif case == "signal":
-            interrupted(getattr(signal, args[0]), int(args[1]))
-        elif case == "solve":
-            during_solve(int(args[0]))
-        elif case == "resume":
-            resume()
-        elif case == "launcher":
-            launcher(getattr(signal, args[0]), args[1])
+        CASES[sys.argv[1]](*sys.argv[2:])
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)

@@ -23,7 +23,6 @@ Each case is run under a timeout generous for linear work (a quadratic run
 would take hours); the answers are checked against closed forms: the dome's
 weight carried by the foundation, the sum of 1e5 loads."""
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -31,14 +30,14 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
-from bwrun import ENV, EXE, Failure, expect, read  # noqa: E402
+from bwrun import ENV, EXE, Failure, call, expect, read  # noqa: E402
 
 
 def run(tmp, scene_text, timeout):
     scene = os.path.join(tmp, "scene.yaml")
     with open(scene, "w") as f:
         f.write(scene_text)
-    return subprocess.run([EXE, "-scene", scene], capture_output=True, text=True, env=ENV, timeout=timeout, cwd=tmp)
+    return call([EXE, "-scene", scene], timeout, env=ENV, cwd=tmp)
 
 
 def polygon():
@@ -83,7 +82,7 @@ def one_block(tmp, block, extra=(), timeout=120):
         f["sets/block"] = np.array([1], np.int64)
     with open(os.path.join(tmp, "scene.yaml"), "w") as f:
         f.write(SCENE)
-    p = subprocess.run([EXE, "-scene", "scene.yaml", *extra], capture_output=True, text=True, env=ENV, timeout=timeout, cwd=tmp)
+    p = call([EXE, "-scene", "scene.yaml", *extra], timeout, env=ENV, cwd=tmp)
     return p.returncode, p.stderr, p.stdout
 
 

@@ -15,7 +15,6 @@ were accepted silently.
 The reference for each case is the key's type in interface.md, written out
 below, not read from blockwall."""
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -23,7 +22,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "geometry"))
-from bwrun import ENV, EXE, Failure, expect, read  # noqa: E402
+from bwrun import ENV, EXE, Failure, call, expect, read  # noqa: E402
 
 # A running-bond scene (every generator key has a place) as (path, value) leaves.
 BASE_WALL = [
@@ -192,7 +191,7 @@ def run_bad(tmp, scene_text, args, what):
     with open(target, "wb") as f:
         f.write(before)
     cmd = [EXE, "-scene", "scene.yaml", "-output_file", target, *args]
-    p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=120, cwd=tmp)
+    p = call(cmd, 120, env=ENV, cwd=tmp)
     lines = [l for l in p.stderr.splitlines() if l.strip()]
     expect(p.returncode == 1, f"{what}: exit code {p.returncode}, expected 1 (bad input)\n{p.stderr}")
     expect(len(lines) == 1, f"{what}: expected one line on stderr, got {len(lines)}:\n{p.stderr}")
@@ -272,8 +271,7 @@ def check_early():
             full = args if phases is not None else args
             if phases == []:
                 full = [*big, *args]
-            p = subprocess.run([EXE, "-scene", scene, "-output_file", os.path.join(tmp, "r.h5"), *full],
-                               capture_output=True, text=True, env=ENV, timeout=120)
+            p = call([EXE, "-scene", scene, "-output_file", os.path.join(tmp, "r.h5"), *full], 120, env=ENV)
             expect(p.returncode == 1, f"{args}: exit {p.returncode}\n{p.stderr}")
             expect(want in p.stderr, f"{args}: {want!r} not in {p.stderr!r}")
             ran = [l.split()[1] for l in p.stdout.splitlines() if l.startswith("[blockwall]")]
@@ -305,7 +303,7 @@ def check_sets600():
         with open(scene, "w") as f:
             f.write("\n".join(lines) + "\n")
         out = os.path.join(tmp, "r.h5")
-        p = subprocess.run([EXE, "-scene", scene, "-output_file", out], capture_output=True, text=True, env=ENV, timeout=300)
+        p = call([EXE, "-scene", scene, "-output_file", out], 300, env=ENV)
         expect(p.returncode == 0, f"600 loaded sets: exit {p.returncode}\n{p.stderr}")
         res = read(out)
         r = res["blocks/reaction"][0]

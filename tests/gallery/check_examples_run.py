@@ -26,8 +26,7 @@ import h5py
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
-from bwrun import EXE, ENV, MPIEXEC, Failure, expect  # noqa: E402
-import subprocess  # noqa: E402
+from bwrun import EXE, ENV, MPIEXEC, Failure, call, expect  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(HERE))
 EXAMPLES = os.path.join(ROOT, "examples")
@@ -42,7 +41,7 @@ def geometry_file(scene):
 def blockwall(scene, out, ranks, cwd, extra=()):
     cmd = [MPIEXEC, "-n", str(ranks), "--oversubscribe", EXE] if ranks > 1 else [EXE]
     cmd += ["-scene", scene, "-output_file", out, "-output_xdmf", "0", *extra]
-    return subprocess.run(cmd, capture_output=True, text=True, env=ENV, cwd=cwd, timeout=600)
+    return call(cmd, env=ENV, cwd=cwd, what="blockwall")
 
 
 def check_build():

@@ -37,7 +37,6 @@ system (solver.rtol); a block's imbalance is a few rows of that residual,
 measured 1e-14 .. 1e-12, so 1e-9 leaves two orders of margin and still
 catches any wrong sign, lever arm or missing joint (those give O(1))."""
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -50,7 +49,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "paper"))
 sys.path.insert(0, os.path.join(HERE, "..", "geometry"))
 sys.path.insert(0, EXAMPLES)
-from bwrun import Failure, expect, rel_err, solve  # noqa: E402
+from bwrun import Failure, call, expect, rel_err, solve  # noqa: E402
 import blockwall as bw  # noqa: E402
 
 G = 9.81
@@ -171,7 +170,8 @@ def arch():
     import arch as example
     with tempfile.TemporaryDirectory() as tmp:
         geo = os.path.join(tmp, "arch.h5")
-        subprocess.run([sys.executable, os.path.join(EXAMPLES, "arch.py"), geo], check=True, capture_output=True)
+        p = call([sys.executable, os.path.join(EXAMPLES, "arch.py"), geo], what="examples/arch.py")
+        expect(p.returncode == 0, f"examples/arch.py: exit {p.returncode}\n{p.stderr}")
         res = scene_run("arch.yaml", tmp, ["-geometry_file", geo])
     g, joints = example.arch(**example.SPAN)
     n = example.SPAN["n"]
@@ -197,7 +197,8 @@ def arch():
 def stones():
     with tempfile.TemporaryDirectory() as tmp:
         geo = os.path.join(tmp, "stones.h5")
-        subprocess.run([sys.executable, os.path.join(EXAMPLES, "stones.py"), geo], check=True, capture_output=True)
+        p = call([sys.executable, os.path.join(EXAMPLES, "stones.py"), geo], what="examples/stones.py")
+        expect(p.returncode == 0, f"examples/stones.py: exit {p.returncode}\n{p.stderr}")
         res = scene_run("stones.yaml", tmp, ["-geometry_file", geo])
     stones_ = res["sets/stones"]
     c = res["blocks/centroid"]
@@ -217,8 +218,7 @@ def facade():
         drawing = os.path.join(tmp, "facade.dxf")
         facade_dxf.draw(drawing)
         for src, dst in ((os.path.join(EXAMPLES, "facade.dxf"), shipped), (drawing, fresh)):
-            p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "import_dxf"), src, dst, "--layer-sets"],
-                               capture_output=True, text=True)
+            p = call([sys.executable, os.path.join(ROOT, "tools", "import_dxf"), src, dst, "--layer-sets"], what="tools/import_dxf")
             expect(p.returncode == 0, f"import_dxf {src}: {p.stderr}")
         a, b = bw.read_geometry(shipped), bw.read_geometry(fresh)
         expect(len(a.blocks) == len(b.blocks) and all(np.array_equal(x, y) for x, y in zip(a.blocks, b.blocks))

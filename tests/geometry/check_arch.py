@@ -132,6 +132,8 @@ def tenon():
 
 if __name__ == "__main__":
     try:
+        if sys.argv[1:] not in ([], ["tenon"]):  # not the arch's checks under a mistyped name
+            sys.exit(f"check_arch.py: unknown case {sys.argv[1:]} (none: the arch; tenon)")
         tenon() if sys.argv[1:] == ["tenon"] else main()
     except Failure as e:
         print("FAIL", e)

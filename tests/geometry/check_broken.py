@@ -10,7 +10,6 @@ or changed (as tests/errors/check_errors.py).
                                  writes, and every file has a case
 """
 import os
-import subprocess
 import sys
 import tempfile
 

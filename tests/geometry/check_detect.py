@@ -71,6 +71,8 @@ def main(which):
 
 
 if __name__ == "__main__":
+    if sys.argv[1:] not in (["analytic"], ["generator"]):  # not the generator's checks under a mistyped name
+        sys.exit(f"check_detect.py: unknown case {sys.argv[1:]} (analytic, generator)")
     try:
         main(sys.argv[1])
     except Failure as e:

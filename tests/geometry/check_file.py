@@ -20,7 +20,6 @@
 """
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 
@@ -31,7 +30,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "paper"))
 sys.path.insert(0, HERE)
-from bwrun import ENV, EXE, Failure, expect, read, rel_err, run, solve  # noqa: E402
+from bwrun import ENV, EXE, Failure, call, expect, read, rel_err, run, solve  # noqa: E402
 from check_paper import SCENE as PAPER_SCENE, closed_form  # noqa: E402
 import geomlib  # noqa: E402
 
@@ -125,8 +124,7 @@ def paths():
         geomlib.write_scene(scene, "geo/g.h5", supports={"bottom": {"u1": 0, "u2": 0, "w": 0}}, loads={"top": (1000, 0, 0)})
         for where, args, want_l in (("scene file", [], 0.2), ("command line", ["-geometry_file", "geo/g.h5"], 0.4)):
             out = os.path.join(tmp, "out.h5")
-            p = subprocess.run([EXE, "-scene", scene, *args, "-output_file", out], cwd=os.path.join(tmp, "cwd"),
-                               capture_output=True, text=True, env=ENV)
+            p = call([EXE, "-scene", scene, *args, "-output_file", out], cwd=os.path.join(tmp, "cwd"), env=ENV)
             expect(p.returncode == 0, f"{where}: {p.stderr}")
             length = read(out)["interfaces/length"][0]
             expect(abs(length - want_l) < 1e-12, f"geometry.file from the {where}: read l = {length}, expected {want_l}")
@@ -200,6 +198,8 @@ def dry():
 
 
 if __name__ == "__main__":
+    if not sys.argv[1:]:  # nothing would be checked
+        sys.exit("check_file.py: name the case(s) to run")
     try:
         for case in sys.argv[1:]:
             globals()[case]()

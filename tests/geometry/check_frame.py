@@ -113,6 +113,8 @@ def wall():
 
 
 if __name__ == "__main__":
+    if not sys.argv[1:]:  # nothing would be checked
+        sys.exit("check_frame.py: name the case(s) to run")
     try:
         for c in sys.argv[1:]:
             globals()[c]()

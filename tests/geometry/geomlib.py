@@ -7,11 +7,10 @@ vertex arrays; interfaces a list of (i, j, G, theta, length) with n from i
 into j, t = (n2, -n1), theta = atan2(t2, t1), as model.md fixes them."""
 import math
 import os
-import subprocess
 
 import numpy as np
 
-from bwrun import ENV, EXE
+from bwrun import ENV, EXE, call
 import blockwall  # noqa: E402  (bwrun put this checkout's python/ on sys.path)
 
 TEST_GEOMETRY = os.environ.get("BW_TEST_GEOMETRY", os.path.join(os.path.dirname(EXE), "test_geometry"))
@@ -160,7 +159,7 @@ def geometry_only(scene, args=(), np_ranks=1, dump=None):
         cmd += ["-dump", dump]
     if np_ranks > 1:
         cmd = [os.environ.get("BW_MPIEXEC", "mpiexec"), "--oversubscribe", "-n", str(np_ranks), *cmd]
-    p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=900)
+    p = call(cmd, env=ENV, what="test_geometry")
     out = None
     if dump and p.returncode == 0:
         d = blockwall.read_datasets(dump)

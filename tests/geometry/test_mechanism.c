@@ -131,6 +131,11 @@ int main(int argc, char **argv)
     PetscCall(PetscFinalize());
     return fail;
   }
+  if (strcmp(which, "sway") && strcmp(which, "sound")) { /* not another case's checks under a mistyped name */
+    fprintf(stderr, "FAIL unknown case %s\n", which);
+    PetscCall(PetscFinalize());
+    return 1;
+  }
   PetscCall(BwBuild(PETSC_COMM_WORLD, strcmp(which, "sound") ? 1 : 2, &geom, &model));
   PetscCall(BwMixedCreate(model, &mx)); /* the static checks pass */
   PetscCall(BwMixedSetUp(mx, BW_STORAGE_SHELL));

@@ -4,7 +4,11 @@ results, in input order, datasets compared one by one.
 usage: check_ranks.py SCENE NRANKS TOL [blockwall options]
 TOL is the relative tolerance: 1e-12 where the partition cannot change the
 order of floating-point sums (two blocks), 1e-10 for walls, whose partition
-changes the order in which MUMPS eliminates."""
+changes the order in which MUMPS eliminates.
+
+Both files must hold the same datasets (one written on 1 rank and not on N,
+or the other way, fails), and each of RESULTS must be in them: a result
+left out of both would otherwise be compared by nobody."""
 import os
 import sys
 
@@ -21,15 +25,19 @@ if __name__ == "__main__":
         one = solve(scene, args, 1)
         many = solve(scene, args, nranks)
         expect(many["solver"]["ranks"] == nranks, "rank count not recorded")
+        datasets = {k for k in one if k not in ("attrs", "solver")}, {k for k in many if k not in ("attrs", "solver")}
+        expect(datasets[0] == datasets[1], f"datasets written on 1 rank only: {sorted(datasets[0] - datasets[1])}, "
+                                           f"on {nranks} ranks only: {sorted(datasets[1] - datasets[0])}")
+        missing = [key for key in RESULTS if key not in one]
+        expect(not missing, f"results not written on 1 or on {nranks} ranks: {missing}")
         worst = 0.0
         for key in RESULTS:
-            if key not in one:
-                continue
             expect(one[key].shape == many[key].shape, f"{key}: shapes {one[key].shape} vs {many[key].shape}")
             e = rel_err(many[key], one[key])
             worst = max(worst, e)
             expect(e < tol, f"{key} differs by {e:.2e} between 1 and {nranks} ranks")
-        print(f"1 vs {nranks} ranks: worst relative difference {worst:.2e}")
+        print(f"1 vs {nranks} ranks: {len(datasets[0])} datasets in both, the {len(RESULTS)} results compared: "
+              f"worst relative difference {worst:.2e}")
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)

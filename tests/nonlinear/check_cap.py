@@ -27,7 +27,6 @@ the cap's bit) in the legend.
 """
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -36,7 +35,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))
-from bwrun import ENV, EXE, Failure, expect, run  # noqa: E402
+from bwrun import ENV, EXE, Failure, call, expect, run  # noqa: E402
 import blockwall as bw  # noqa: E402
 
 KN, KT, L, S = 82.0e9, 36.0e9, 0.2, 0.1
@@ -187,7 +186,7 @@ def errors():
             with open(path, "w") as f:
                 f.write(text)
             out = os.path.join(tmp, "bad.h5")
-            p = subprocess.run([EXE, "-scene", path, "-output_file", out], capture_output=True, text=True, env=ENV)
+            p = call([EXE, "-scene", path, "-output_file", out], env=ENV)
             err = p.stderr.strip().splitlines()
             expect(p.returncode == 1 and len(err) == 1 and f"joints.strength.{named}" in err[0],
                    f"{cap}: exit {p.returncode}, stderr {p.stderr!r}, expected one line naming joints.strength.{named}")
@@ -200,7 +199,7 @@ def errors():
             path = os.path.join(tmp, "bad.yaml")
             with open(path, "w") as f:
                 f.write(text)
-            p = subprocess.run([EXE, "-scene", path, "-output_file", os.path.join(tmp, "bad.h5")], capture_output=True, text=True, env=ENV)
+            p = call([EXE, "-scene", path, "-output_file", os.path.join(tmp, "bad.h5")], env=ENV)
             err = p.stderr.strip().splitlines()
             expect(p.returncode == 1 and len(err) == 1 and f"joints.strength.{named}" in err[0], f"expected one line naming {named}: {p.stderr!r}")
             print(err[0])

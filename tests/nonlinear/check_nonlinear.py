@@ -58,7 +58,6 @@ its reference and why its tolerance is what it is.
 """
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -66,7 +65,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
-from bwrun import ENV, EXE, Failure, expect, read, rel_err, run  # noqa: E402
+from bwrun import ENV, EXE, Failure, call, expect, read, rel_err, run  # noqa: E402
 
 sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))
 import blockwall as bw  # noqa: E402
@@ -364,7 +363,7 @@ def errors():
                               F1=0, F2=-1000, M3=0, extra=f"analysis: {{type: pushover, pushover: {{{body}}}}}")
             scene = write(tmp, "bad.yaml", text)
             out = os.path.join(tmp, "bad.h5")
-            p = subprocess.run([EXE, "-scene", scene, "-output_file", out], capture_output=True, text=True, env=ENV)
+            p = call([EXE, "-scene", scene, "-output_file", out], env=ENV)
             err = p.stderr.strip().splitlines()
             expect(p.returncode == 1 and len(err) == 1 and named in err[0],
                    f"{key}: {value}: exit {p.returncode}, stderr {p.stderr!r}, expected one line naming {named}")

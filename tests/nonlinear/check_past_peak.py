@@ -249,8 +249,10 @@ if __name__ == "__main__":
             snapback(int(sys.argv[2]))
         elif sys.argv[1] == "exhausted":
             exhausted(int(sys.argv[2]))
-        else:
+        elif sys.argv[1] == "capacity":
             capacity_case()
+        else:  # not another case's checks under a mistyped name
+            sys.exit(f"check_past_peak.py: unknown case {sys.argv[1]!r} (snapback R, exhausted R, capacity)")
     except Failure as e:
         print(f"FAIL: {e}")
         sys.exit(1)

@@ -15,7 +15,7 @@ add_executable(test_newton ${CMAKE_CURRENT_LIST_DIR}/../unit/test_newton.c)
 target_link_libraries(test_newton PRIVATE blockwall_core)
 foreach(np 1 2)
   add_test(NAME nonlinear.unload_reload_${np}
-           COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np} $<TARGET_FILE:test_newton>
+           COMMAND ${BW_WATCHDOG} ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np} $<TARGET_FILE:test_newton>
                    -scene ${CMAKE_CURRENT_LIST_DIR}/../unit/newton_block.yaml)
   set_tests_properties(nonlinear.unload_reload_${np} PROPERTIES LABELS "nonlinear;unit" ENVIRONMENT "${BW_MPI_ENV}")
 endforeach()

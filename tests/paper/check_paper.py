@@ -153,6 +153,8 @@ if __name__ == "__main__":
             check_gravity()
             sys.exit(0)
         if sys.argv[1:2] == ["prescribed"]:
+            if sys.argv[2:] not in (["u1"], ["u1w"]):  # not u1w's checks under a mistyped name
+                sys.exit(f"check_paper.py prescribed: unknown dofs {sys.argv[2:]} (u1, u1w)")
             check_prescribed(sys.argv[2])
             sys.exit(0)
         worst = [0.0, 0.0]

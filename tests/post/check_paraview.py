@@ -201,7 +201,7 @@ def driver(mode):
 
     here = os.path.dirname(os.path.abspath(__file__))
     sys.path.insert(0, os.path.join(here, "..", "common"))
-    from bwrun import Failure, expect, run  # noqa: E402
+    from bwrun import Failure, budget, expect, run  # noqa: E402
     sys.path.insert(0, os.path.join(here, "..", "..", "python"))
     from blockwall.display import run_with_display  # noqa: E402
     from matplotlib.image import imread  # noqa: E402
@@ -264,7 +264,7 @@ def driver(mode):
             json.dump(ref, f)
         cmd = [pvpython, os.path.abspath(__file__), "--inside", ref_path]
         t0 = time.monotonic()
-        p = run_with_display(cmd)
+        p = run_with_display(cmd, timeout=budget())
         seconds = time.monotonic() - t0
         print(p.stdout, end="")
         expect(p.returncode == 0, f"{' '.join(cmd)} exited {p.returncode}:\n{p.stdout}\n{p.stderr[-3000:]}")

@@ -30,7 +30,6 @@ crack pattern, and the functions that need them refuse it), demo
 (examples/demo.yaml on 2 ranks, --color w --scale 500 --interfaces 0,5,7),
 pushover."""
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -40,7 +39,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 TOOLS = os.path.join(HERE, "..", "..", "tools")
-from bwrun import ENV, Failure, expect, run  # noqa: E402
+from bwrun import ENV, Failure, call, expect, run  # noqa: E402
 
 import blockwall as post  # noqa: E402  (this checkout's python/, put on sys.path by bwrun)
 from matplotlib.image import imread  # noqa: E402
@@ -290,19 +289,18 @@ def linear_refused(res, stdout):
     pattern, and the functions say why."""
     expect("pushover history" not in stdout and "crack pattern" not in stdout,
            f"tools/plot drew a pushover's pictures for a linear result:\n{stdout}")
-    for call, words in ((lambda: post.plot_history(res), "/history"), (lambda: post.peak_step(res), "/history"),
+    for draw, words in ((lambda: post.plot_history(res), "/history"), (lambda: post.peak_step(res), "/history"),
                         (lambda: post.plot_cracks(res, "end"), "/interfaces/state"),
                         (lambda: post.plot_cracks(res, "peak"), "/interfaces/state")):
         try:
-            call()
+            draw()
             raise Failure(f"a linear result drawn without {words}")
         except ValueError as e:
             expect(words in str(e), f"the error does not name {words}: {e}")
 
 
 def plot_command(h5file, outdir, args=()):
-    p = subprocess.run([sys.executable, os.path.join(TOOLS, "plot"), h5file, "--outdir", outdir, *args],
-                       capture_output=True, text=True, env=ENV, timeout=600)
+    p = call([sys.executable, os.path.join(TOOLS, "plot"), h5file, "--outdir", outdir, *args], env=ENV, what="tools/plot")
     expect(p.returncode == 0, f"tools/plot failed ({p.returncode}):\n{p.stdout}\n{p.stderr}")
     return p.stdout
 

@@ -43,10 +43,12 @@ What each case asserts (`check`):
      (estimated by the reference from the extreme eigenvalues of S^). Cases
      whose data carry their own error (coordinates rounded far from the
      origin) state a looser tol and why.
-     "Says so": a non-zero exit with a message on stderr, or a warning:
-     /solver accuracy_met = 0, a non-empty /solver warning, or "warning" in
-     the summary. Exit 0, no warning, error > tol: a silent wrong answer,
-     the test fails.
+     "Says so": a non-zero exit with a message on stderr, or a warning in
+     the file: /solver accuracy_met = 0 with a non-empty /solver warning
+     (the two must agree; a word in what the run printed -- a PETSc or MPI
+     warning would do -- counts for nothing). Exit 0, no warning, error >
+     tol: a silent wrong answer, the test fails. A warned run is held to
+     what its warning claims (point 5), whatever its error.
   2. A refusal must be right: a true mechanism must be refused; a case the
      reference solves must not be called a mechanism (the condensed path,
      which has no mechanism check, writes the file the reference then
@@ -54,8 +56,9 @@ What each case asserts (`check`):
      joint contrast above 1e12, and cond(K~) eps > 1e-3 (no double-precision
      answer good to three digits exists) --, and may be refused (residual out of reach) only with a
      message naming the residual reached; run again with rtol relaxed to
-     10 x that residual, it must then meet point 1 for that rtol (the
-     residual it reported reflects the error it has).
+     10 x that residual, it must then succeed, and be as good as it claims
+     (point 5): tol of point 1 at that rtol (100 x rtol, up to 0.9) would
+     hold any answer, so the relaxed run is judged by its own estimate.
   3. The reported residual is the true one: blockwall's residual is
      recomputed in real128 from the written results, and must not exceed
      max(10 x reported, 100 eps ||x~||/||b~||) (the results are written
@@ -67,6 +70,19 @@ What each case asserts (`check`):
      (/solver forward_error_estimate) is honest: the displacement error is
      at most 100 x max(estimate, forward_rtol); its condition estimate,
      where it made one, is within a factor 1e3 of the reference's cond(K~).
+     A run that warned, or that was run again with rtol relaxed after a
+     refusal, is held to what it claims without that slack: its
+     displacement error at most its estimate, and its stress error (for
+     which it makes no estimate of its own) at most the larger of that
+     estimate and its true residual, the two numbers its warning names:
+     the first block row of the scaled system, r~ = D^ q~ - rho_1, makes
+     the stress error the displacement error seen through D^ (of norm
+     O(1) after the scaling) plus the residual. Margins measured on every
+     warned case and the two relaxed 1e12 contrasts, with OpenBLAS and the
+     reference BLAS: the estimate is 77 (cluster_1e9 on the reference
+     BLAS, whose error round-off moves 100-fold between the two: 4.6e-6
+     and 5.0e-8) to 1e4 times the displacement error, the larger of the
+     two at least 12 times the stress error (contrast_layered_1e6, 1e9).
 
 Cases where this suite found blockwall wrong are kept in KNOWN_SILENT
 (exit 0, no warning, error far above tol), KNOWN_MISDIAGNOSED (refused as a
@@ -77,7 +93,6 @@ WILL_FAIL would hide them). docs/accuracy.md holds the measured table.
 import contextlib
 import os
 import re
-import subprocess
 import sys
 import tempfile
 import time
@@ -88,7 +103,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "geometry"))
-from bwrun import ENV, EXE, Failure, expect  # noqa: E402
+from bwrun import ENV, EXE, Failure, call, expect  # noqa: E402
 from geomlib import write_geometry  # noqa: E402  (HDF5 geometry files, docs/hdf5.md "HDF5 geometry input")
 
 REFERENCE = os.environ.get("BW_REFERENCE", os.path.join(os.path.dirname(os.path.abspath(EXE)), "bw_reference"))
@@ -106,7 +121,7 @@ def run_blockwall(scene, args, out):
     """blockwall on its defaults plus `args`: (returncode, stdout, stderr, seconds, command)."""
     cmd = [EXE, "-scene", scene, *map(str, args), "-output_file", out, "-output_xdmf", "0"]
     t0 = time.perf_counter()
-    p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=600)
+    p = call(cmd, env=ENV, what="blockwall")
     return p.returncode, p.stdout, p.stderr, time.perf_counter() - t0, cmd
 
 
@@ -114,7 +129,7 @@ def run_reference(path, out=None):
     """bw_reference on a blockwall output file: its measures (a dict) and,
     with `out`, the reference displacements "q" and stresses "s"."""
     cmd = [REFERENCE, path] + (["-o", out] if out else [])
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=3600)
+    p = call(cmd, what="bw_reference")
     if p.returncode != 0:
         raise Failure(f"bw_reference failed ({p.returncode}): {p.stderr.strip()}")
     stats = {k: float(v) for k, v in (line.split() for line in p.stdout.splitlines())}
@@ -469,13 +484,17 @@ def measure(name, extra=()):
 
 def said_so(r):
     """Did blockwall say that its answer is not to be trusted? A failure
-    with a message, or a success with a warning: /solver accuracy_met = 0,
-    a non-empty /solver warning, or "warning" in what it printed."""
+    with a message, or a success with a warning in /solver (warned)."""
     if r["rc"] != 0:
         return "error" in r["stderr"]
-    if r.get("accuracy_met", 1) == 0 or str(r.get("warning", "")).strip():
-        return True
-    return "warning" in (r["stdout"] + r["stderr"]).lower()
+    return warned(r)
+
+
+def warned(r):
+    """A success whose /solver says the accuracy asked for was not met:
+    accuracy_met = 0 and a non-empty warning attribute (their agreement is
+    checked by check_run). What the run printed does not count."""
+    return r["accuracy_met"] == 0 and bool(str(r["warning"]).strip())
 
 
 def residuals_in_message(text):
@@ -492,9 +511,14 @@ def row(r):
             f"{' fallback' if r['fallback'] else ''} {r['seconds']:.2f} s")
 
 
-def check_run(name, r):
-    """Points 1, 3, 4 of the docstring on a run that exited 0."""
+def check_run(name, r, relaxed=False):
+    """Points 1, 3, 4, 5 of the docstring on a run that exited 0; relaxed:
+    the run again with rtol relaxed after a refusal (point 2)."""
     st = r["stats"]
+    for key in ("accuracy_met", "warning", "forward_error_estimate", "residual"):
+        expect(key in r, f"{name}: /solver has no attribute {key}")
+    expect((r["accuracy_met"] == 0) == bool(str(r["warning"]).strip()),
+           f"{name}: /solver accuracy_met = {r['accuracy_met']} but warning {r['warning']!r}")
     # the reference must resolve the bound to three digits
     expect(st["ref_error_bound"] < 1e-3 * r["tol"], f"{name}: the reference is not accurate enough "
                                                      f"({st['ref_error_bound']:.1e} for a bound of {r['tol']:.0e})")
@@ -522,9 +546,23 @@ def check_run(name, r):
     if ce is not None and ce > 0:
         expect(1e-3 * st["cond_mixed"] <= ce <= 1e3 * st["cond_mixed"],
                f"{name}: condition estimate {ce:.1e} against cond(K~) {st['cond_mixed']:.1e}")
-    expect(r["err"] <= r["tol"] or said_so(r),
+    if warned(r) or relaxed:
+        # Point 5, what it claims: the displacement error within its
+        # estimate, the stress error within the larger of the estimate and
+        # the true residual (docstring, with the margins measured).
+        claim = max(fe, r["residual"])
+        how = "warned" if warned(r) else f"rtol relaxed to {r['rtol']:.0e}"
+        expect(st["ref_error_bound"] < 1e-3 * min(fe, claim) or fe < 0,
+               f"{name}: the reference ({st['ref_error_bound']:.1e}) cannot check an estimate of {fe:.1e}")
+        expect(fe >= 0 and r["err_q"] <= fe,
+               f"{name} ({how}): displacement error {r['err_q']:.2e} above its estimate {fe:.2e}")
+        expect(r["err_s"] <= claim,
+               f"{name} ({how}): stress error {r['err_s']:.2e} above the estimate {fe:.2e} and the residual "
+               f"{r['residual']:.2e} it reported")
+        return
+    expect(r["err"] <= r["tol"],
            f"{name}: SILENT WRONG ANSWER: displacement error {r['err_q']:.2e}, stress error {r['err_s']:.2e} > "
-           f"{r['tol']:.0e} with exit 0, residual {r['residual']:.1e}, no warning ({r['cmd']})")
+           f"{r['tol']:.0e} with exit 0, residual {r['residual']:.1e}, no warning in /solver ({r['cmd']})")
 
 
 def check(name):
@@ -573,13 +611,19 @@ def check(name):
         r = measure(name, ["-solver_rtol", f"{rtol:.1e}"])
         print("relaxed:", row(r))
         expect(r["rc"] == 0, f"{name}: fails even with solver.rtol {rtol:.1e}, 10 x the residual it reported")
+        check_run(name, r, relaxed=True)
+        print(f"{name}: with rtol {rtol:.0e}: displacement error {r['err_q']:.2e} <= its estimate "
+              f"{r['forward_error_estimate']:.2e}, stress error {r['err_s']:.2e} <= max(estimate, residual "
+              f"{r['residual']:.2e})")
+        return
     check_run(name, r)
     why = case.why or "min(100 rtol, 100 cond eps)"
-    if r["err"] <= r["tol"]:
-        print(f"{name}: error {r['err']:.2e} <= {r['tol']:.1e} ({why})")
+    if warned(r):
+        print(f"{name}: error {r['err']:.2e} ({'within' if r['err'] <= r['tol'] else 'above'} {r['tol']:.1e}, {why}); "
+              f"warned in /solver, displacement error {r['err_q']:.2e} <= its estimate {r['forward_error_estimate']:.2e}, "
+              f"stress error {r['err_s']:.2e} <= max(estimate, residual {r['residual']:.2e}): {r['warning'].strip()[:200]}")
     else:
-        print(f"{name}: error {r['err']:.2e} > {r['tol']:.1e} ({why}), and blockwall warned: "
-              f"{(r.get('warning') or r['stdout']).strip()[:300]}")
+        print(f"{name}: error {r['err']:.2e} <= {r['tol']:.1e} ({why})")
 
 
 def follow_up(name, r):
@@ -616,7 +660,7 @@ def markdown(rows):
         lines.append(f"| {label} | {what} | {r['ref']} | {r['err_q']:.1e} | {r['err_s']:.1e} | {r['tol']:.0e} | "
                      f"{st['cond_mixed']:.1e} | {r['residual']:.1e} / {st['residual']:.1e} | "
                      f"{r['iterations']} | {r['method_used']}{' (fallback)' if r['fallback'] else ''}"
-                     f"{', warning' if said_so(r) else ''} | {r['seconds']:.2f} |")
+                     f"{', warning' if warned(r) else ''} | {r['seconds']:.2f} |")
     return "\n".join(lines)
 
 
@@ -636,6 +680,9 @@ if __name__ == "__main__":
         if argv[0] == "--markdown":
             print(markdown(rows))
         sys.exit(0)
+    unknown = [n for n in argv if n not in ALL]
+    if not argv or unknown:  # no case, or a mistyped one: nothing would be checked
+        sys.exit(f"check_stability.py: unknown case(s) {unknown} (cases: {', '.join(ALL)})" if argv else __doc__)
     try:
         for n in argv:
             check(n)

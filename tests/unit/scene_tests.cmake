@@ -5,7 +5,7 @@ add_executable(test_scene ${CMAKE_CURRENT_LIST_DIR}/test_scene.c)
 target_link_libraries(test_scene PRIVATE blockwall_core)
 
 set(BW_SCENE_CASES ${CMAKE_CURRENT_LIST_DIR}/scene_cases)
-set(BW_SCENE_MPIEXEC ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS})
+set(BW_SCENE_MPIEXEC ${BW_WATCHDOG} ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${MPIEXEC_PREFLAGS})
 
 # BW_MPI_ENV (from tests/CMakeLists.txt) lets Open MPI run as root and oversubscribe.
 function(bw_scene_test name labels)

@@ -212,11 +212,31 @@ static void test_bad_arguments(void)
 int main(int argc, char **argv)
 {
   const char *which = argc > 1 ? argv[1] : "all";
-  if (!strcmp(which, "kg") || !strcmp(which, "all")) test_kg();
-  if (!strcmp(which, "rotated") || !strcmp(which, "all")) test_rotated();
-  if (!strcmp(which, "recover") || !strcmp(which, "all")) test_recover();
-  if (!strcmp(which, "tangent") || !strcmp(which, "all")) test_tangent();
-  if (!strcmp(which, "bad") || !strcmp(which, "all")) test_bad_arguments();
+  int         ran   = 0;
+  if (!strcmp(which, "kg") || !strcmp(which, "all")) {
+    test_kg();
+    ran++;
+  }
+  if (!strcmp(which, "rotated") || !strcmp(which, "all")) {
+    test_rotated();
+    ran++;
+  }
+  if (!strcmp(which, "recover") || !strcmp(which, "all")) {
+    test_recover();
+    ran++;
+  }
+  if (!strcmp(which, "tangent") || !strcmp(which, "all")) {
+    test_tangent();
+    ran++;
+  }
+  if (!strcmp(which, "bad") || !strcmp(which, "all")) {
+    test_bad_arguments();
+    ran++;
+  }
+  if (!ran) { /* a mistyped case name must not pass having checked nothing */
+    fprintf(stderr, "FAIL unknown case %s\n", which);
+    return 1;
+  }
   printf("%s: %s\n", which, failures ? "FAILED" : "passed");
   return failures ? 1 : 0;
 }

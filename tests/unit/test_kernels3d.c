@@ -263,12 +263,35 @@ static void test_bad(void)
 int main(int argc, char **argv)
 {
   const char *which = argc > 1 ? argv[1] : "all";
-  if (!strcmp(which, "kg") || !strcmp(which, "all")) test_kg();
-  if (!strcmp(which, "frame") || !strcmp(which, "all")) test_frame();
-  if (!strcmp(which, "rigid") || !strcmp(which, "all")) test_rigid();
-  if (!strcmp(which, "adjoint") || !strcmp(which, "all")) test_adjoint();
-  if (!strcmp(which, "restrict") || !strcmp(which, "all")) test_restrict();
-  if (!strcmp(which, "bad") || !strcmp(which, "all")) test_bad();
+  int         ran   = 0;
+  if (!strcmp(which, "kg") || !strcmp(which, "all")) {
+    test_kg();
+    ran++;
+  }
+  if (!strcmp(which, "frame") || !strcmp(which, "all")) {
+    test_frame();
+    ran++;
+  }
+  if (!strcmp(which, "rigid") || !strcmp(which, "all")) {
+    test_rigid();
+    ran++;
+  }
+  if (!strcmp(which, "adjoint") || !strcmp(which, "all")) {
+    test_adjoint();
+    ran++;
+  }
+  if (!strcmp(which, "restrict") || !strcmp(which, "all")) {
+    test_restrict();
+    ran++;
+  }
+  if (!strcmp(which, "bad") || !strcmp(which, "all")) {
+    test_bad();
+    ran++;
+  }
+  if (!ran) { /* a mistyped case name must not pass having checked nothing */
+    fprintf(stderr, "FAIL unknown case %s\n", which);
+    return 1;
+  }
   printf("%s: %s\n", which, failures ? "FAILED" : "passed");
   return failures ? 1 : 0;
 }

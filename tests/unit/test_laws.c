@@ -1173,8 +1173,12 @@ static void test_cap_bad(void)
 int main(int argc, char **argv)
 {
   const char *which = argc > 1 ? argv[1] : "all";
+  int         ran   = 0;
 #define RUN(name, call) \
-  if (!strcmp(which, name) || !strcmp(which, "all")) call
+  if (!strcmp(which, name) || !strcmp(which, "all")) { \
+    call; \
+    ran++; \
+  }
   RUN("elastic", test_elastic());
   RUN("cutoff", test_cutoff());
   RUN("coulomb", test_coulomb());
@@ -1196,6 +1200,10 @@ int main(int argc, char **argv)
   RUN("cap_property", test_cap_property());
   RUN("cap3d", test_cap3d());
   RUN("cap_bad", test_cap_bad());
+  if (!ran) { /* a mistyped case name must not pass having checked nothing */
+    fprintf(stderr, "FAIL unknown case %s\n", which);
+    return 1;
+  }
   printf("%s: %s\n", which, failures ? "FAILED" : "passed");
   return failures ? 1 : 0;
 }

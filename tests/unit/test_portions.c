@@ -177,13 +177,30 @@ static PetscErrorCode TestPolygons(void)
 int main(int argc, char **argv)
 {
   const char *which;
+  int         ran = 0;
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   which = argc > 1 ? argv[1] : "all";
-  if (!strcmp(which, "rectangle") || !strcmp(which, "all")) PetscCall(TestRectangle());
-  if (!strcmp(which, "triangle") || !strcmp(which, "all")) PetscCall(TestTriangle());
-  if (!strcmp(which, "share") || !strcmp(which, "all")) PetscCall(TestShare());
-  if (!strcmp(which, "polygons") || !strcmp(which, "all")) PetscCall(TestPolygons());
+  if (!strcmp(which, "rectangle") || !strcmp(which, "all")) {
+    PetscCall(TestRectangle());
+    ran++;
+  }
+  if (!strcmp(which, "triangle") || !strcmp(which, "all")) {
+    PetscCall(TestTriangle());
+    ran++;
+  }
+  if (!strcmp(which, "share") || !strcmp(which, "all")) {
+    PetscCall(TestShare());
+    ran++;
+  }
+  if (!strcmp(which, "polygons") || !strcmp(which, "all")) {
+    PetscCall(TestPolygons());
+    ran++;
+  }
+  if (!ran) { /* a mistyped case name must not pass having checked nothing */
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "FAIL unknown case %s\n", which));
+    failures++;
+  }
   printf("%s: %s\n", which, failures ? "FAILED" : "passed");
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
