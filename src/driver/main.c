@@ -92,15 +92,23 @@ static PetscErrorCode BwRunMain(MPI_Comm comm, BwRun *run)
   if (has_scene) PetscCall(BwGeometrySetUp(p->geom, p->scene, p->model->law[BW_JOINT_BED]->thickness));
   if (!progress_set) run->log.verbose = p->geom->nblocks_global >= 10000 ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(BwLogEnd(p->log, BW_PHASE_GENERATE));
+  /* the geometry's keys are all read: a typo among them fails before the
+   * partition (the keys that name the geometry's sets wait for the model) */
+  if (has_scene) PetscCall(BwSceneCheckUnused(p->scene, BW_CHECK_GEOMETRY, 0, NULL, ndeferred, deferred));
   if (!has_scene) {
     /* -help alone: the keys that need a geometry are listed with none */
     PetscCall(BwModelSetUp(p->model, p->geom, p->scene));
     PetscCall(BwAnalysisSetFromOptions(run->analysis, p));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCall(BwLogBegin(p->log, BW_PHASE_PARTITION));
-  PetscCall(BwGeometryDistribute(p->geom, (BwPartitionMethod)p->geom->partition));
-  PetscCall(BwLogEnd(p->log, BW_PHASE_PARTITION));
+  {
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(comm, &size));
+    /* one rank: the piece is the share, nothing is partitioned or logged */
+    if (size > 1) PetscCall(BwLogBegin(p->log, BW_PHASE_PARTITION));
+    PetscCall(BwGeometryDistribute(p->geom, (BwPartitionMethod)p->geom->partition));
+    if (size > 1) PetscCall(BwLogEnd(p->log, BW_PHASE_PARTITION));
+  }
   PetscCall(BwLogBegin(p->log, BW_PHASE_ASSEMBLE));
   PetscCall(BwModelSetUp(p->model, p->geom, p->scene));
   PetscCall(BwAnalysisSetFromOptions(run->analysis, p));

@@ -109,7 +109,7 @@ static void BwXdmfInterfaceMotion(BwGeometry geom, PetscInt k, const PetscReal p
 }
 
 /* 3D portions: every layout's portion polygons in (xi, eta), cut from the
- * polygon the layout was made from (BwPortionsPolygons3D), and where each
+ * layout's polygon (BwPortionsPolygons3D), and where each
  * interface's portions go in /xdmf/portion_points and portion_topology. An
  * interface of a layout takes that layout's polygons in its own frame: its
  * portions, areas and centroids are the layout's. */
@@ -123,17 +123,15 @@ static PetscErrorCode BwXdmfLayoutsCreate(BwGeometry geom, const BwPortions *P, 
 {
   const PetscInt ni = geom->ninterfaces, np = P->offsets[P->nlayouts], mm = P->m * P->mb;
   PetscInt       maxv = 0, *lv, *lpoints, *ltopology;
-  PetscReal     *local;
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < ni; k++) maxv = PetscMax(maxv, geom->poly_offsets[k + 1] - geom->poly_offsets[k]);
   PetscCall(PetscMalloc4(np + 1, &L->voff, 2 * (maxv + 4) * np + 1, &L->verts, ni + 1, &L->points, ni + 1, &L->topology));
-  PetscCall(PetscMalloc4(2 * maxv, &local, mm + 1, &lv, P->nlayouts + 1, &lpoints, P->nlayouts + 1, &ltopology));
+  PetscCall(PetscMalloc3(mm + 1, &lv, P->nlayouts + 1, &lpoints, P->nlayouts + 1, &ltopology));
   L->voff[0] = 0;
   for (PetscInt l = 0; l < P->nlayouts; l++) {
-    const PetscInt k = P->first[l], o = P->offsets[l], n = P->offsets[l + 1] - o;
-    BwGeometryInterfaceLocal(geom, k, local);
-    PetscCall(BwPortionsPolygons3D(P, l, geom->poly_offsets[k + 1] - geom->poly_offsets[k], local, lv, L->verts + 2 * L->voff[o]));
+    const PetscInt o = P->offsets[l], n = P->offsets[l + 1] - o;
+    PetscCall(BwPortionsPolygons3D(P, l, lv, L->verts + 2 * L->voff[o]));
     ltopology[l] = 0;
     for (PetscInt p = 0; p < n; p++) {
       L->voff[o + p + 1] = L->voff[o] + lv[p + 1];
@@ -146,7 +144,7 @@ static PetscErrorCode BwXdmfLayoutsCreate(BwGeometry geom, const BwPortions *P, 
     L->points[k + 1]   = L->points[k] + lpoints[P->layout[k]];
     L->topology[k + 1] = L->topology[k] + ltopology[P->layout[k]];
   }
-  PetscCall(PetscFree4(local, lv, lpoints, ltopology));
+  PetscCall(PetscFree3(lv, lpoints, ltopology));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -104,6 +104,7 @@ PetscErrorCode BwSceneCheckUnused(BwScene scene, BwCheckStage stage, PetscInt ne
   /* blockwall's own keys of the file, read or overridden by a getter */
   for (PetscInt i = 0; i < scene->nnodes && leaf < 0 && stage != BW_CHECK_FOREIGN; i++) {
     const BwSceneNode *node = &scene->nodes[i];
+    if (stage == BW_CHECK_GEOMETRY && !BwHasPrefix(node->name, "geometry_")) continue;
     if (node->own && node->kind != BW_NODE_MAPPING && !node->used) leaf = i;
   }
   /* PETSc's database: the command line and the file's other keys */
@@ -116,6 +117,7 @@ PetscErrorCode BwSceneCheckUnused(BwScene scene, BwCheckStage stage, PetscInt ne
     for (size_t j = 0; j < PETSC_STATIC_ARRAY_LENGTH(BwScenePetscOptions) && !skip; j++) skip = BwInWord(names[i], BwScenePetscOptions[j]);
     for (PetscInt j = 0; j < ndeferred && !skip && !wait; j++) wait = BwHasPrefix(names[i], deferred[j]);
     if (stage == BW_CHECK_FOREIGN && BwSceneOwns(names[i])) continue;
+    if (stage == BW_CHECK_GEOMETRY && !BwHasPrefix(names[i], "geometry_")) continue;
     if (skip || (wait && stage != BW_CHECK_FINAL)) continue;
     /* Report the earliest file key, else the first command-line option. */
     node = BwNameMapGet(&scene->argmap, names[i]) >= 0 ? -1 : BwSceneFindNode(scene, names[i]);

@@ -97,9 +97,10 @@ PetscErrorCode BwSceneListEntries(BwScene scene, const char section[], PetscInt 
  * PETSc reads some of them only when a solver is set up) are left for the
  * final check; right after loading, blockwall's own keys too. */
 typedef enum {
-  BW_CHECK_FOREIGN, /* at once after loading: options that are not blockwall's and no solver will read */
-  BW_CHECK_SETUP,   /* after reading every key, before any heavy work: all but `deferred` */
-  BW_CHECK_FINAL    /* after the solve: everything */
+  BW_CHECK_FOREIGN,  /* at once after loading: options that are not blockwall's and no solver will read */
+  BW_CHECK_GEOMETRY, /* after the geometry is made, before the partition: the geometry's own keys (geometry.*) */
+  BW_CHECK_SETUP,    /* after reading every key, before any heavy work: all but `deferred` */
+  BW_CHECK_FINAL     /* after the solve: everything */
 } BwCheckStage;
 PetscErrorCode BwSceneCheckUnused(BwScene scene, BwCheckStage stage, PetscInt nexempt, const char *const exempt[], PetscInt ndeferred, const char *const deferred[]);
 /* The scene as run: the file's keys in their nesting with the values in

@@ -15,6 +15,7 @@
 #include "util/compat.h"
 #include "blockwall/kernels.h"
 #include "util/exchange.h"
+#include <string.h>
 
 const char *const BwStorages[] = {"shell", "nest", "aij", "BwStorage", "BW_STORAGE_", NULL};
 
@@ -85,17 +86,143 @@ static PetscErrorCode BwMixedScales(BwMixed mx)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* 3D: the interface polygons in their own coordinates, cut into portions. */
+/* 3D: the interface polygons in their own coordinates, cut into portions.
+ * Interfaces of one class (polygons equal on the grid of BwPolygonStep)
+ * share one layout, whose portions are cut from one member's polygon: that
+ * member must be the same on every number of ranks, or the portions (and
+ * the answers) would move by round-off with the partition. So each class
+ * takes the polygon of its member of smallest global id over all ranks:
+ * every rank sends one record per class it holds to the class's home rank
+ * (its hash modulo the ranks), which answers with the chosen polygon. */
+typedef struct {
+  uint64_t    hash;
+  PetscReal   q;
+  PetscInt    nv, gid, from; /* from: the sender's record index, for the answer */
+  PetscMPIInt src, pad;      /* the sender */
+} BwClassHead;
+
+static int BwClassCompare(const void *x, const void *y)
+{
+  const BwClassHead *a = *(const BwClassHead *const *)x, *b = *(const BwClassHead *const *)y;
+  int                c;
+  if (a->hash != b->hash) return a->hash < b->hash ? -1 : 1;
+  if (a->q != b->q) return a->q < b->q ? -1 : 1;
+  if (a->nv != b->nv) return a->nv < b->nv ? -1 : 1;
+  c = memcmp(a + 1, b + 1, sizeof(int64_t) * 2 * (size_t)a->nv); /* the grid polygon follows the head */
+  if (c) return c;
+  return (a->gid > b->gid) - (a->gid < b->gid);
+}
+
 static PetscErrorCode BwMixedCreatePortions3D(BwMixed mx)
 {
   BwGeometry     g  = mx->geom;
   const PetscInt ni = g->ninterfaces;
   PetscReal     *local;
+  PetscInt       maxv = 0, nrec = 0, *rec_of;
+  PetscMPIInt    size, rank;
 
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(mx->comm, &size));
+  PetscCallMPI(MPI_Comm_rank(mx->comm, &rank));
   PetscCall(PetscMalloc1(2 * (size_t)g->poly_offsets[ni] + 1, &local));
-  for (PetscInt k = 0; k < ni; k++) BwGeometryInterfaceLocal(g, k, local + 2 * g->poly_offsets[k]);
+  for (PetscInt k = 0; k < ni; k++) {
+    BwGeometryInterfaceLocal(g, k, local + 2 * g->poly_offsets[k]);
+    maxv = PetscMax(maxv, g->poly_offsets[k + 1] - g->poly_offsets[k]);
+  }
+  PetscCall(PetscMalloc1(ni + 1, &rec_of));
+  if (size > 1) {
+    /* one record per (class, rank): the class's smallest local gid and its polygon */
+    const size_t head = sizeof(BwClassHead);
+    BwPacker     p, reply;
+    char        *recv, *back;
+    size_t       nrecv, nback;
+    PetscInt    *first; /* per local record: its interface */
+    PetscCall(PetscMalloc1(ni + 1, &first));
+    {
+      /* local classes: sort the local interfaces by class, then gid */
+      char  *buf, **ptr;
+      size_t rsz = head + sizeof(int64_t) * 2 * (size_t)maxv;
+      PetscCall(PetscMalloc2(rsz * (size_t)ni + 1, &buf, ni + 1, &ptr));
+      for (PetscInt k = 0; k < ni; k++) {
+        BwClassHead    *h  = (BwClassHead *)(buf + rsz * (size_t)k);
+        const PetscInt  nv = g->poly_offsets[k + 1] - g->poly_offsets[k];
+        const PetscReal *pl = local + 2 * g->poly_offsets[k];
+        h->nv               = nv;
+        h->q                = BwPolygonStep(nv, pl);
+        BwPolygonQuantize(nv, pl, h->q, (int64_t *)(h + 1));
+        h->hash = BwPolygonHash(nv, (int64_t *)(h + 1));
+        h->gid  = g->giface[k];
+        h->from = k;
+        ptr[k]  = (char *)h;
+      }
+      qsort(ptr, (size_t)ni, sizeof(char *), BwClassCompare);
+      PetscCall(BwPackerCreate(mx->comm, &p));
+      for (PetscInt a = 0; a < ni; a++) {
+        BwClassHead *h = (BwClassHead *)ptr[a], *prev = a ? (BwClassHead *)ptr[a - 1] : NULL;
+        PetscBool    same = prev && prev->hash == h->hash && prev->q == h->q && prev->nv == h->nv && !memcmp(prev + 1, h + 1, sizeof(int64_t) * 2 * (size_t)h->nv);
+        if (!same) {
+          /* a new class here: its first (smallest gid) member's record */
+          BwClassHead out = *h;
+          out.from        = nrec;
+          out.src         = rank;
+          first[nrec]     = h->from;
+          PetscCall(BwPack(&p, (PetscMPIInt)(h->hash % (uint64_t)size), &out, head));
+          PetscCall(BwPack(&p, (PetscMPIInt)(h->hash % (uint64_t)size), h + 1, sizeof(int64_t) * 2 * (size_t)h->nv));
+          PetscCall(BwPack(&p, (PetscMPIInt)(h->hash % (uint64_t)size), local + 2 * g->poly_offsets[h->from], sizeof(PetscReal) * 2 * (size_t)h->nv));
+          nrec++;
+        }
+        rec_of[h->from] = nrec - 1;
+      }
+      PetscCall(PetscFree2(buf, ptr));
+    }
+    PetscCall(BwPackerExchange(mx->comm, &p, &recv, &nrecv, NULL));
+    PetscCall(BwPackerDestroy(&p));
+    {
+      /* the home's records, sorted by class then gid: each class's first
+       * record's polygon answers every record of the class */
+      PetscInt      n = 0, cap = 64;
+      BwClassHead **ptr;
+      PetscCall(PetscMalloc1(cap, &ptr));
+      for (const char *at = recv; at < recv + nrecv;) {
+        BwClassHead *h = (BwClassHead *)at;
+        if (n == cap) {
+          cap *= 2;
+          PetscCall(PetscRealloc(sizeof(*ptr) * (size_t)cap, &ptr));
+        }
+        ptr[n++] = h;
+        at += head + (sizeof(int64_t) + sizeof(PetscReal)) * 2 * (size_t)h->nv;
+      }
+      qsort(ptr, (size_t)n, sizeof(*ptr), BwClassCompare);
+      PetscCall(BwPackerCreate(mx->comm, &reply));
+      for (PetscInt a = 0, c0 = 0; a < n; a++) {
+        BwClassHead *h = ptr[a], *c = ptr[c0];
+        if (!(c->hash == h->hash && c->q == h->q && c->nv == h->nv && !memcmp(c + 1, h + 1, sizeof(int64_t) * 2 * (size_t)h->nv))) c0 = a, c = h;
+        PetscCall(BwPack(&reply, h->src, &h->from, sizeof(PetscInt)));
+        PetscCall(BwPack(&reply, h->src, (char *)(c + 1) + sizeof(int64_t) * 2 * (size_t)c->nv, sizeof(PetscReal) * 2 * (size_t)c->nv));
+      }
+      PetscCall(PetscFree(ptr));
+    }
+    PetscCall(PetscFree(recv));
+    PetscCall(BwPackerExchange(mx->comm, &reply, &back, &nback, NULL));
+    PetscCall(BwPackerDestroy(&reply));
+    {
+      /* each record's class polygon, then every member of the record's class takes it */
+      PetscReal *cls;
+      PetscCall(PetscMalloc1(2 * maxv * nrec + 1, &cls));
+      for (const char *at = back; at < back + nback;) {
+        PetscInt q, nv;
+        BwUnpack(&at, &q, sizeof(q));
+        nv = g->poly_offsets[first[q] + 1] - g->poly_offsets[first[q]];
+        BwUnpack(&at, cls + 2 * maxv * q, sizeof(PetscReal) * 2 * (size_t)nv);
+      }
+      for (PetscInt k = 0; k < ni; k++) PetscCall(PetscArraycpy(local + 2 * g->poly_offsets[k], cls + 2 * maxv * rec_of[k], 2 * (g->poly_offsets[k + 1] - g->poly_offsets[k])));
+      PetscCall(PetscFree(cls));
+    }
+    PetscCall(PetscFree(back));
+    PetscCall(PetscFree(first));
+  }
   PetscCall(BwPortionsCreate3D(ni, g->poly_offsets, local, mx->m, mx->model->mb, &mx->portions));
+  PetscCall(PetscFree(rec_of));
   PetscCall(PetscFree(local));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -193,9 +320,6 @@ PetscErrorCode BwMixedCreate(BwModel model, BwMixed *mixed)
   }
   if (geom->dim == 3) PetscCall(BwMixedCreatePortions3D(mx));
   else PetscCall(BwPortionsCreate2D(ni, geom->pair, geom->length, geom->depth, mx->m, &mx->portions));
-  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
-  PetscCall(BwMixedCheckRestraint(mx));
-  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
 
   /* interface owners: the same rule on both ranks that hold one */
   PetscCall(PetscMalloc1(ni + 1, &mx->interface_owner));
@@ -211,6 +335,10 @@ PetscErrorCode BwMixedCreate(BwModel model, BwMixed *mixed)
   mx->nown_blocks = nown;
   PetscCall(PetscMalloc1(nown + 1, &mx->own_blocks));
   for (PetscInt b = 0; b < nown; b++) mx->own_blocks[b] = b;
+  /* the restraint checks count each hinge once, on its owner */
+  PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
+  PetscCall(BwMixedCheckRestraint(mx));
+  PetscCall(PetscLogEventEnd(BwEvents[BW_EVENT_RESTRAINT], 0, 0, 0, 0));
 
   /* numbering: rank p's rows of K are [its stresses | its blocks' dofs] */
   for (PetscInt e = 0; e < mx->nown_interfaces; e++) mx->nr_local += mx->ns * BwPortionsCount(&mx->portions, mx->own_interfaces[e]);

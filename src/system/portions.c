@@ -196,22 +196,32 @@ static PetscInt BwPolygonPortions(PetscInt n, const PetscReal poly[], PetscInt m
 }
 
 /* Polygon k's coordinates on the grid of step q (see below), as integers. */
-static void BwPolygonQuantize(PetscInt nv, const PetscReal p[], PetscReal q, int64_t out[])
+void BwPolygonQuantize(PetscInt nv, const PetscReal p[], PetscReal q, int64_t out[])
 {
   for (PetscInt a = 0; a < 2 * nv; a++) out[a] = (int64_t)llround(p[a] / q);
 }
 
-static uint64_t BwPolygonHash(PetscInt nv, const int64_t z[])
+uint64_t BwPolygonHash(PetscInt nv, const int64_t z[])
 {
   uint64_t h = 1469598103934665603ULL ^ (uint64_t)nv;
   for (PetscInt a = 0; a < 2 * nv; a++) h = (h ^ (uint64_t)z[a]) * 1099511628211ULL;
   return h ^ (h >> 29);
 }
 
+/* The grid step of polygon p (nv vertices): 2^-40 of its largest
+ * coordinate, rounded up to a power of two (the rounding is the same on
+ * every rank and CPU). */
+PetscReal BwPolygonStep(PetscInt nv, const PetscReal p[])
+{
+  PetscReal ext = 0;
+  for (PetscInt a = 0; a < 2 * nv; a++) ext = PetscMax(ext, PetscAbsReal(p[a]));
+  return ext > 0 ? PetscPowReal(2.0, PetscCeilReal(PetscLog2Real(ext)) - 40) : 1;
+}
+
 PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const PetscReal poly[], PetscInt m, PetscInt mb, BwPortions *P)
 {
-  PetscInt   maxv = 0, cap, used = 0, tcap = 16, *table, *rep;
-  PetscReal *work, ext = 0, q;
+  PetscInt   maxv = 0, cap, used = 0, tcap = 16, *table, *rep, nlv = 0;
+  PetscReal *work, *qk;
   int64_t   *za, *zb;
 
   PetscFunctionBeginUser;
@@ -222,18 +232,20 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
   P->m           = m;
   P->mb          = mb;
   for (PetscInt k = 0; k < n; k++) maxv = PetscMax(maxv, offsets[k + 1] - offsets[k]);
-  for (PetscInt a = 0; a < 2 * offsets[n]; a++) ext = PetscMax(ext, PetscAbsReal(poly[a]));
   /* Interfaces of one shape share a layout. Their polygons, computed from
-   * world coordinates, agree only to round-off: they are compared on a grid
-   * of step q = 2^-40 of the largest coordinate (a power of two: the
-   * rounding is the same on every rank and CPU), and a class's portions are
-   * those of its first polygon, within 1e-12 of the others'. Two polygons
+   * world coordinates, agree only to round-off: each is put on a grid of
+   * step q = 2^-40 of its own largest coordinate (a power of two: the
+   * rounding is the same on every rank and CPU, and the class of a polygon
+   * does not depend on the others), polygons equal there are one class,
+   * and its portions are those of its first polygon, within 1e-12 of the
+   * others'. (The distributed layout gives every member of a class one
+   * polygon, its member of smallest global id: layout.c.) Two polygons
    * that straddle a grid line get layouts of their own: only memory. */
-  q = ext > 0 ? PetscPowReal(2.0, PetscCeilReal(PetscLog2Real(ext)) - 40) : 1;
   while (tcap < 2 * n) tcap *= 2;
   PetscCall(PetscMalloc1(tcap, &table));
   for (PetscInt a = 0; a < tcap; a++) table[a] = -1;
   PetscCall(PetscMalloc3(2 * maxv + 1, &za, 2 * maxv + 1, &zb, n + 1, &rep));
+  PetscCall(PetscMalloc1(n + 1, &qk));
   PetscCall(PetscMalloc1(4 * (maxv + 4) + 1, &work));
   PetscCall(PetscMalloc1(n + 1, &P->layout));
   PetscCall(PetscMalloc1(n + 1, &P->offsets));
@@ -241,13 +253,14 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
   for (PetscInt k = 0; k < n; k++) {
     PetscInt nv = offsets[k + 1] - offsets[k];
     PetscCheck(nv >= 3, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has a polygon of %" PetscInt_FMT " vertices", k, nv);
+    qk[k] = BwPolygonStep(nv, poly + 2 * offsets[k]);
   }
   /* classes first (then the arrays have their size) */
   for (PetscInt k = 0; k < n; k++) {
     const PetscInt nv = offsets[k + 1] - offsets[k];
     uint64_t       h;
-    BwPolygonQuantize(nv, poly + 2 * offsets[k], q, za);
-    h      = BwPolygonHash(nv, za);
+    BwPolygonQuantize(nv, poly + 2 * offsets[k], qk[k], za);
+    h      = BwPolygonHash(nv, za) ^ (uint64_t)llround(PetscLog2Real(qk[k]));
     rep[k] = -1;
     for (PetscInt s = (PetscInt)(h & (uint64_t)(tcap - 1));; s = (s + 1) & (tcap - 1)) {
       const PetscInt r = table[s];
@@ -255,18 +268,24 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
         table[s] = k;
         break;
       }
-      if (offsets[r + 1] - offsets[r] != nv) continue;
-      BwPolygonQuantize(nv, poly + 2 * offsets[r], q, zb);
+      if (offsets[r + 1] - offsets[r] != nv || qk[r] != qk[k]) continue;
+      BwPolygonQuantize(nv, poly + 2 * offsets[r], qk[r], zb);
       if (!memcmp(za, zb, sizeof(int64_t) * 2 * nv)) {
         rep[k] = r;
         break;
       }
     }
-    if (rep[k] < 0) P->nlayouts++;
+    if (rep[k] < 0) {
+      P->nlayouts++;
+      nlv += nv;
+    }
   }
   cap = PetscMax(1, P->nlayouts) * m * mb;
   PetscCall(PetscMalloc5(cap, &P->area, cap, &P->xi, cap, &P->eta, cap, &P->sqrt_area, cap, &P->inv_sqrt_area));
-  P->nlayouts = 0;
+  PetscCall(PetscMalloc1(P->nlayouts + 1, &P->lpoly_offsets));
+  PetscCall(PetscMalloc1(2 * nlv + 1, &P->lpoly));
+  P->lpoly_offsets[0] = 0;
+  P->nlayouts         = 0;
   for (PetscInt k = 0; k < n; k++) {
     PetscInt nv = offsets[k + 1] - offsets[k], np;
     if (rep[k] >= 0) {
@@ -275,9 +294,11 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
     }
     np = BwPolygonPortions(nv, poly + 2 * offsets[k], m, mb, work, P->area + used, P->xi + used, P->eta + used, NULL, NULL);
     PetscCheck(np > 0, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "interface %" PetscInt_FMT " has zero area", k);
-    P->first[P->nlayouts]    = k;
-    P->layout[k]             = P->nlayouts;
-    P->offsets[P->nlayouts] = used;
+    PetscCall(PetscArraycpy(P->lpoly + 2 * P->lpoly_offsets[P->nlayouts], poly + 2 * offsets[k], 2 * nv));
+    P->lpoly_offsets[P->nlayouts + 1] = P->lpoly_offsets[P->nlayouts] + nv;
+    P->first[P->nlayouts]             = k;
+    P->layout[k]                      = P->nlayouts;
+    P->offsets[P->nlayouts]           = used;
     P->nlayouts++;
     used += np;
     P->maxnp = PetscMax(P->maxnp, np);
@@ -290,23 +311,24 @@ PetscErrorCode BwPortionsCreate3D(PetscInt n, const PetscInt offsets[], const Pe
   PetscCall(PetscFree(work));
   PetscCall(PetscFree(table));
   PetscCall(PetscFree3(za, zb, rep));
+  PetscCall(PetscFree(qk));
   PetscCall(BwPortionsMarkUniform(P));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwPortionsPolygons3D(const BwPortions *P, PetscInt l, PetscInt nv, const PetscReal poly[], PetscInt voffsets[], PetscReal vertices[])
+PetscErrorCode BwPortionsPolygons3D(const BwPortions *P, PetscInt l, PetscInt voffsets[], PetscReal vertices[])
 {
-  PetscReal *work, *area, *xi, *eta;
-  PetscInt   np, want = P->offsets[l + 1] - P->offsets[l];
+  PetscReal     *work, *area, *xi, *eta;
+  const PetscInt nv = P->lpoly_offsets[l + 1] - P->lpoly_offsets[l];
+  PetscInt       np, want = P->offsets[l + 1] - P->offsets[l];
 
   PetscFunctionBeginUser;
   PetscCheck(P->dim == 3, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "portion polygons are a 3D notion");
   PetscCall(PetscMalloc4(4 * (nv + 4), &work, P->m * P->mb, &area, P->m * P->mb, &xi, P->m * P->mb, &eta));
-  np = BwPolygonPortions(nv, poly, P->m, P->mb, work, area, xi, eta, voffsets, vertices);
+  np = BwPolygonPortions(nv, P->lpoly + 2 * P->lpoly_offsets[l], P->m, P->mb, work, area, xi, eta, voffsets, vertices);
   PetscCall(PetscFree4(work, area, xi, eta));
-  /* the same polygon through the same clipping: the same portions, or
-   * poly is not the polygon the layout was made from */
-  PetscCheck(np == want, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "layout %" PetscInt_FMT " has %" PetscInt_FMT " portions, the polygon given %" PetscInt_FMT, l, want, np);
+  /* the same polygon through the same clipping: the same portions */
+  PetscCheck(np == want, PETSC_COMM_SELF, PETSC_ERR_PLIB, "layout %" PetscInt_FMT " has %" PetscInt_FMT " portions, its polygon cut again %" PetscInt_FMT, l, want, np);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -314,6 +336,8 @@ PetscErrorCode BwPortionsDestroy(BwPortions *P)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree(P->first));
+  PetscCall(PetscFree(P->lpoly_offsets));
+  PetscCall(PetscFree(P->lpoly));
   PetscCall(PetscFree(P->uniform));
   PetscCall(PetscFree(P->layout));
   PetscCall(PetscFree(P->offsets));

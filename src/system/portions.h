@@ -15,7 +15,9 @@ typedef struct {
   PetscInt   ninterfaces, nlayouts, maxnp;
   PetscInt   m, mb;       /* 3D: the grid of the bounding box */
   PetscInt  *layout;      /* per interface: its layout */
-  PetscInt  *first;       /* 3D, per layout: the interface whose polygon made it (NULL in 2D) */
+  PetscInt  *first;       /* 3D, per layout: an interface of its class (NULL in 2D) */
+  PetscInt  *lpoly_offsets; /* 3D, per layout: its polygon lpoly[2 v], v in lpoly_offsets[l]..[l+1]-1 */
+  PetscReal *lpoly;
   PetscInt  *offsets;     /* per layout: its portions offsets[l]..offsets[l+1]-1 */
   PetscReal *area, *xi, *eta, *sqrt_area, *inv_sqrt_area;
   PetscBool *uniform;     /* per layout: all its portions have one area */
@@ -30,16 +32,24 @@ PetscErrorCode BwPortionsCreate2D(PetscInt ninterfaces, const PetscInt pair[], c
  * and b, counter-clockwise; it is cut by the m x mb grid of equal cells of
  * its bounding box, and every cell's intersection of area above 1e-9 A is
  * a portion (model.md, "Three dimensions"), numbered with the t index
- * fastest. Interfaces whose polygons agree to 2^-40 of the largest
- * coordinate share a layout (the portions of the first of them). */
+ * fastest. Each polygon is put on a grid of step 2^-40 of its largest
+ * coordinate (a power of two, BwPolygonStep); those equal there share a
+ * layout, the portions of the first of them (BwPolygonClass). */
 PetscErrorCode BwPortionsCreate3D(PetscInt ninterfaces, const PetscInt offsets[], const PetscReal poly[], PetscInt m, PetscInt mb, BwPortions *P);
+/* The class of a polygon of nv vertices (xi, eta): its grid step q (2^-40
+ * of its largest coordinate, a power of two), its coordinates on that
+ * grid z[2 nv], and their hash: equal for polygons equal on the grid,
+ * whatever the rank or the CPU. */
+#include <stdint.h>
+PetscReal BwPolygonStep(PetscInt nv, const PetscReal poly[]);
+void      BwPolygonQuantize(PetscInt nv, const PetscReal poly[], PetscReal q, int64_t z[]);
+uint64_t  BwPolygonHash(PetscInt nv, const int64_t z[]);
 /* 3D: the polygons of layout l's portions, in their order, as
- * BwPortionsCreate3D cut them: portion p's vertices (xi, eta),
- * counter-clockwise, are vertices[2 v], vertices[2 v + 1] for v in
- * voffsets[p]..voffsets[p+1]-1. poly (nv vertices) is the polygon the
- * layout was made from, that of interface first[l] as given to
- * BwPortionsCreate3D. Room: voffsets m mb + 1, vertices 2 (nv + 4) m mb. */
-PetscErrorCode BwPortionsPolygons3D(const BwPortions *P, PetscInt l, PetscInt nv, const PetscReal poly[], PetscInt voffsets[], PetscReal vertices[]);
+ * BwPortionsCreate3D cut them from the layout's polygon (nv vertices):
+ * portion p's vertices (xi, eta), counter-clockwise, are vertices[2 v],
+ * vertices[2 v + 1] for v in voffsets[p]..voffsets[p+1]-1. Room: voffsets
+ * m mb + 1, vertices 2 (nv + 4) m mb. */
+PetscErrorCode BwPortionsPolygons3D(const BwPortions *P, PetscInt l, PetscInt voffsets[], PetscReal vertices[]);
 PetscErrorCode BwPortionsDestroy(BwPortions *P);
 
 /* Interface k's portions: their number and the first of the arrays. */

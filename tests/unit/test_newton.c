@@ -47,7 +47,7 @@ int main(int argc, char **argv)
   BwLog        log;
   BwNewton     nw;
   PetscReal   *pattern, lam = 0, l1, l2, k0, cap = 950, um = 1e-6;
-  PetscInt     top, substeps;
+  PetscInt     top, gtop, substeps;
   PetscBool    ok;
   char         path[PETSC_MAX_PATH_LEN];
 
@@ -74,14 +74,17 @@ int main(int argc, char **argv)
   PetscCall(BwSolverSetUp(p.solver, p.mixed));
 
   /* the pattern: a horizontal force at the joint's level (moment-free) */
+  /* the top block: its global id on every rank, its pattern on its owner */
   PetscCall(BwGeometryFindSet(p.geom, "top", &top));
-  top = p.geom->setblocks[p.geom->setoffsets[top]];
+  PetscCall(BwGeometrySetFirst(p.geom, top, &gtop, &top));
   PetscCall(PetscCalloc1(3 * p.geom->nblocks, &pattern));
-  pattern[3 * top]     = 1;
-  pattern[3 * top + 2] = 0.055;
+  if (top >= 0 && top < p.geom->nown_blocks) {
+    pattern[3 * top]     = 1;
+    pattern[3 * top + 2] = 0.055;
+  }
   PetscCall(BwNewtonCreate(&p, p.model->load, pattern, &nw));
   PetscCall(BwNewtonSetTolerances(nw, 1e-10, 40));
-  PetscCall(BwNewtonSetMonitor(nw, top, 0));
+  PetscCall(BwNewtonSetMonitor(nw, gtop, 0));
   PetscCall(BwNewtonRamp(nw, 1e-3, &substeps, &ok));
   PetscCheck(ok, p.comm, PETSC_ERR_PLIB, "the block does not carry its load");
 

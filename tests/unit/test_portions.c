@@ -17,6 +17,7 @@
  *              inside its portion's cell of the bounding box (1e-15), the
  *              areas sum to the hexagon's; a polygon that is not the
  *              layout's (another count of portions) is an error */
+#include <string.h>
 #include <math.h>
 #include <petscsys.h>
 #include "system/portions.h"
@@ -130,13 +131,12 @@ static PetscErrorCode TestPolygons(void)
   const PetscInt  off[2] = {0, 6}, m = 5, mb = 3;
   PetscInt        voff[16], nexpect = 0;
   PetscReal       verts[2 * (6 + 4) * 15], A = 0, sum = 0;
-  PetscErrorCode  ierr;
   BwPortions      P;
 
   PetscFunctionBeginUser;
   for (int v = 0; v < 6; v++) A += 0.5 * (hex[2 * v] * hex[(2 * v + 3) % 12] - hex[(2 * v + 2) % 12] * hex[2 * v + 1]);
   PetscCall(BwPortionsCreate3D(1, off, hex, m, mb, &P));
-  PetscCall(BwPortionsPolygons3D(&P, 0, 6, hex, voff, verts));
+  PetscCall(BwPortionsPolygons3D(&P, 0, voff, verts));
   for (PetscInt p = 0; p < BwPortionsCount(&P, 0); p++) {
     PetscInt  n = voff[p + 1] - voff[p], i = -1, j = -1;
     PetscReal a = 0, cx = 0, cy = 0, *x = verts + 2 * voff[p];
@@ -165,11 +165,29 @@ static PetscErrorCode TestPolygons(void)
   }
   expect_close("polygons: sum of areas", sum, A, 1e-14, A);
   if (nexpect < 12) printf("FAIL polygons: only %d portions\n", (int)nexpect), failures++;
-  /* the triangle is not the hexagon this layout was made from */
-  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
-  ierr = BwPortionsPolygons3D(&P, 0, 3, tri, voff, verts);
-  PetscCall(PetscPopErrorHandler());
-  if (!ierr) printf("FAIL polygons: a triangle's portions passed for the hexagon's\n"), failures++;
+  {
+    /* The same shape given twice, off by round-off (the second hexagon
+     * 2^-50 larger), in either order, and a triangle: two layouts, the
+     * hexagons' the portions of whichever came first, bit for bit (so the
+     * layout gives the members of a class one polygon: layout.c) */
+    PetscReal      two[2 * 15], other[2 * 15];
+    const PetscInt off3[4] = {0, 6, 12, 15};
+    BwPortions     Q[2];
+    for (int v = 0; v < 12; v++) two[v] = hex[v], two[12 + v] = hex[v] * (1 + PetscPowReal(2.0, -50));
+    for (int v = 0; v < 6; v++) two[24 + v] = tri[v];
+    for (int v = 0; v < 12; v++) other[v] = two[12 + v], other[12 + v] = two[v];
+    for (int v = 0; v < 6; v++) other[24 + v] = tri[v];
+    PetscCall(BwPortionsCreate3D(3, off3, two, m, mb, &Q[0]));
+    PetscCall(BwPortionsCreate3D(3, off3, other, m, mb, &Q[1]));
+    for (int q = 0; q < 2; q++)
+      if (Q[q].nlayouts != 2 || Q[q].layout[0] != Q[q].layout[1]) printf("FAIL polygons: %d layouts for two hexagons and a triangle (order %d)\n", (int)Q[q].nlayouts, q), failures++;
+    {
+      PetscInt n = BwPortionsCount(&P, 0), f = BwPortionsFirst(&Q[0], 0);
+      if (BwPortionsCount(&Q[0], 0) != n || memcmp(Q[0].area + f, P.area, sizeof(PetscReal) * n) || memcmp(Q[0].xi + f, P.xi, sizeof(PetscReal) * n)) printf("FAIL polygons: the class's portions are not its first polygon's\n"), failures++;
+    }
+    PetscCall(BwPortionsDestroy(&Q[0]));
+    PetscCall(BwPortionsDestroy(&Q[1]));
+  }
   PetscCall(BwPortionsDestroy(&P));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
