@@ -4,8 +4,10 @@
  * one rank.
  *
  * The grid: cells of size h over the global box of every block's grown box,
- * about 64 cells per rank (h from the box's volume), each cell hashed to a
- * rank. With cells much larger than the blocks a block goes to one rank or
+ * each cell hashed to a rank, h such that the blocks fill about 64 cells
+ * per rank (from the summed volume of the grown boxes, not the volume of
+ * the global box: a block far from the others does not make the cells of
+ * the rest large, and few). With cells much larger than the blocks a block goes to one rank or
  * a few (a box crossing a cell boundary), so a rank receives about 1/size
  * of the blocks, plus the blocks along its cells' boundaries; a block
  * larger than the cells (a foundation under a wall) goes to every rank
@@ -131,7 +133,7 @@ PetscErrorCode BwSpatialCreate(MPI_Comm comm, const BwBlockView *share, BwSpatia
 {
   const PetscInt d = share->dim;
   PetscReal      lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, PETSC_MIN_REAL}, glo[3], ghi[3];
-  PetscReal      vol = 1, ext = 0;
+  PetscReal      vol = 0, gvol, ext = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(s, sizeof(*s)));
@@ -139,23 +141,30 @@ PetscErrorCode BwSpatialCreate(MPI_Comm comm, const BwBlockView *share, BwSpatia
   s->dim  = d;
   PetscCallMPI(MPI_Comm_size(comm, &s->size));
   PetscCallMPI(MPI_Comm_rank(comm, &s->rank));
-  for (PetscInt b = 0; b < share->n; b++)
+  for (PetscInt b = 0; b < share->n; b++) {
+    PetscReal v = 1;
     for (PetscInt c = 0; c < d; c++) {
       lo[c] = PetscMin(lo[c], share->gbox[2 * d * b + c]);
       hi[c] = PetscMax(hi[c], share->gbox[2 * d * b + d + c]);
+      v *= share->gbox[2 * d * b + d + c] - share->gbox[2 * d * b + c];
     }
+    vol += v;
+  }
   PetscCallMPI(MPIU_Allreduce(lo, glo, (PetscMPIInt)d, MPIU_REAL, MPIU_MIN, comm));
   PetscCallMPI(MPIU_Allreduce(hi, ghi, (PetscMPIInt)d, MPIU_REAL, MPIU_MAX, comm));
+  PetscCallMPI(MPIU_Allreduce(&vol, &gvol, 1, MPIU_REAL, MPIU_SUM, comm));
   for (PetscInt c = 0; c < d; c++) {
     s->x0[c] = glo[c];
-    vol *= ghi[c] - glo[c];
-    ext = PetscMax(ext, ghi[c] - glo[c]);
+    ext      = PetscMax(ext, ghi[c] - glo[c]);
   }
-  /* the same arithmetic on the same reduced numbers: the same h everywhere */
-  s->h = PetscPowReal(vol / (BW_CELLS_PER_RANK * (PetscReal)s->size), 1 / (PetscReal)d);
+  s->h = PetscPowReal(gvol / (BW_CELLS_PER_RANK * (PetscReal)s->size), 1 / (PetscReal)d);
   /* at most 1e6 cells along an axis: cell indices stay small integers */
   s->h = PetscMax(s->h, 1e-6 * ext);
   if (!(s->h > 0) || PetscIsInfOrNanReal(s->h)) s->h = ext > 0 && !PetscIsInfOrNanReal(ext) ? ext : 1;
+  /* every rank must use the same cells, to the bit: rank 0's h (MPI does
+   * not promise a floating-point sum the same last bit on every rank; the
+   * bounds, minima and maxima, are exact) */
+  PetscCallMPI(MPI_Bcast(&s->h, 1, MPIU_REAL, 0, comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
