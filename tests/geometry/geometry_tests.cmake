@@ -65,7 +65,7 @@ set_tests_properties(geometry.running_bond.errors PROPERTIES LABELS "geometry;er
 # suite's default TIMEOUT, which the end of tests/CMakeLists.txt sets for
 # every test, is theirs.
 set(bw_parallel_read)
-foreach(case shuffled listed bands arch)
+foreach(case shuffled listed listed_kn bands arch)
   bw_py_test(geometry.parallel_read.walls2d_${case} "geometry;mpi" geometry/check_parallel_read.py walls2d ${case})
   list(APPEND bw_parallel_read geometry.parallel_read.walls2d_${case})
 endforeach()
