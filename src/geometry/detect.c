@@ -22,7 +22,13 @@
  * from its first vertex, then the edge of j. Candidates come from the hash;
  * a pair given in a file (BwDetectPair) tries every edge of i against every
  * edge of j, and both go through the same piece and merge code, so they agree
- * to the last bit. */
+ * to the last bit.
+ *
+ * In parallel each rank detects among the blocks of its region
+ * (spatial.c), keeping the pairs it decides: every pair is decided by one
+ * rank, which holds both its blocks whole, and the edge order within a
+ * block is the file's, so each pair's pieces, their order and their merge
+ * are the serial reader's to the last bit. */
 #include <stdint.h>
 #include <stdlib.h>
 #include "geometry/validate.h"
@@ -30,34 +36,43 @@
 
 /* ------------------------------------------------------------ tolerances */
 
-PetscErrorCode BwToleranceCompute(PetscInt nv, const PetscReal xy[], PetscInt nb, const PetscInt offsets[], PetscReal e, BwTolerance *tol)
+PetscErrorCode BwToleranceCompute(MPI_Comm comm, PetscInt nv_global, PetscInt vstart, PetscInt nv, const PetscReal xy[], PetscInt nb, const PetscInt offsets[], PetscReal e, BwTolerance *tol)
 {
-  PetscInt   ns = PetscMin(nv, 4096), n = 0;
-  PetscReal *len, xmax = 0;
+  const PetscInt ns = PetscMin(nv_global, 4096);
+  PetscInt       n = 0, b = 0;
+  PetscReal     *len, *all, xmax = 0, gmax;
+  PetscMPIInt    size, *counts, *displs, mine;
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < 2 * nv; k++) xmax = PetscMax(xmax, PetscAbsReal(xy[k]));
-  /* an even sample of the edges: the median of 4096 is as good as the
-   * median of millions for setting a tolerance, and costs nothing */
-  PetscCall(PetscMalloc1(ns + 1, &len));
+  PetscCallMPI(MPIU_Allreduce(&xmax, &gmax, 1, MPIU_REAL, MPIU_MAX, comm));
+  /* an even sample of the edges, by global vertex row: the median of 4096
+   * is as good as the median of millions for setting a tolerance, and
+   * costs nothing; each rank measures the samples among its rows */
+  PetscCall(PetscMalloc2(ns + 1, &len, ns + 1, &all));
   for (PetscInt s = 0; s < ns; s++) {
-    PetscInt e = (PetscInt)(((int64_t)s * nv) / ns), lo = 0, hi = nb, b, e1;
-    while (hi - lo > 1) { /* block of vertex e: offsets[b] <= e < offsets[b+1] */
-      PetscInt mid = (lo + hi) / 2;
-      if (offsets[mid] <= e) lo = mid;
-      else hi = mid;
-    }
-    b  = lo;
-    e1 = e + 1 < offsets[b + 1] ? e + 1 : offsets[b];
-    len[n++] = PetscSqrtReal(PetscSqr(xy[2 * e1] - xy[2 * e]) + PetscSqr(xy[2 * e1 + 1] - xy[2 * e + 1]));
+    PetscInt v = (PetscInt)(((int64_t)s * nv_global) / ns) - vstart, v1;
+    if (v < 0 || v >= nv) continue;
+    while (offsets[b + 1] <= v) b++; /* block of row v: rows ascend with s */
+    v1       = v + 1 < offsets[b + 1] ? v + 1 : offsets[b];
+    len[n++] = PetscSqrtReal(PetscSqr(xy[2 * v1] - xy[2 * v]) + PetscSqr(xy[2 * v1 + 1] - xy[2 * v + 1]));
   }
-  PetscCall(PetscSortReal(n, len));
-  tol->edge      = n ? len[n / 2] : 0;
-  tol->delta     = 1e-6 * tol->edge + 1e-12 * xmax;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscMalloc2(size, &counts, size + 1, &displs));
+  mine = (PetscMPIInt)n;
+  PetscCallMPI(MPI_Allgather(&mine, 1, MPI_INT, counts, 1, MPI_INT, comm));
+  displs[0] = 0;
+  for (PetscMPIInt r = 0; r < size; r++) displs[r + 1] = displs[r] + counts[r];
+  PetscCallMPI(MPI_Allgatherv(len, mine, MPIU_REAL, all, counts, displs, MPIU_REAL, comm));
+  n = displs[size];
+  PetscCall(PetscSortReal(n, all));
+  tol->edge      = n ? all[n / 2] : 0;
+  tol->delta     = 1e-6 * tol->edge + 1e-12 * gmax;
   tol->thickness = e;
   tol->gapmax    = e * (1 + 1e-6) + tol->delta;
   tol->cosang    = PetscCosReal(BW_FACING_ANGLE);
-  PetscCall(PetscFree(len));
+  PetscCall(PetscFree2(counts, displs));
+  PetscCall(PetscFree2(len, all));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -390,19 +405,18 @@ static PetscErrorCode BwMergePieces(const PetscReal *v, PetscInt np, const BwPie
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwDetectPair(BwGeometry g, const BwTolerance *tol, PetscInt i, PetscInt j, PetscInt *n, PetscInt *cap, BwSegment **seg)
+PetscErrorCode BwDetectPair(const PetscReal x[], const PetscInt o[], const BwTolerance *tol, PetscInt i, PetscInt j, PetscInt *n, PetscInt *cap, BwSegment **seg)
 {
-  const PetscInt *o = g->offsets;
-  BwPiece        *p  = NULL;
-  PetscInt        np = 0, pcap = 0;
-  BwSegBuf        out = {0, *cap, *seg};
+  BwPiece *p  = NULL;
+  PetscInt np = 0, pcap = 0;
+  BwSegBuf out = {0, *cap, *seg};
 
   PetscFunctionBeginUser;
   for (PetscInt a = o[i]; a < o[i + 1]; a++)
     for (PetscInt b = o[j]; b < o[j + 1]; b++) {
       PetscInt a1 = a + 1 < o[i + 1] ? a + 1 : o[i], b1 = b + 1 < o[j + 1] ? b + 1 : o[j];
       BwFace   f;
-      if (!BwFacing(g->vertices, a, a1, b, b1, tol, &f)) continue;
+      if (!BwFacing(x, a, a1, b, b1, tol, &f)) continue;
       if (np == pcap) {
         pcap = PetscMax(2 * pcap, 8);
         PetscCall(PetscRealloc(sizeof(BwPiece) * (size_t)pcap, &p));
@@ -417,7 +431,7 @@ PetscErrorCode BwDetectPair(BwGeometry g, const BwTolerance *tol, PetscInt i, Pe
       np++;
     }
   if (np > 1) qsort(p, (size_t)np, sizeof(BwPiece), BwPieceCompare);
-  PetscCall(BwMergePieces(g->vertices, np, p, tol, &out));
+  PetscCall(BwMergePieces(x, np, p, tol, &out));
   PetscCall(PetscFree(p));
   *n   = out.n;
   *cap = out.cap;
@@ -427,16 +441,10 @@ PetscErrorCode BwDetectPair(BwGeometry g, const BwTolerance *tol, PetscInt i, Pe
 
 /* ------------------------------------------------------------ detection */
 
-typedef struct {
-  const PetscReal *v;
-  const PetscInt  *next; /* next vertex of the same polygon */
-  PetscReal        reach;
-} BwEdgeShapeCtx;
-
 /* An edge grown by half the widest gap plus delta on each side: two edges
  * at most gapmax apart then share a cell (the middle of the gap is within
  * reach of both). */
-static void BwEdgeShape(void *ctx, PetscInt e, PetscReal P[2], PetscReal Q[2], PetscReal *rx, PetscReal *ry)
+void BwEdgeShape(void *ctx, PetscInt e, PetscReal P[2], PetscReal Q[2], PetscReal *rx, PetscReal *ry)
 {
   BwEdgeShapeCtx *c = (BwEdgeShapeCtx *)ctx;
   P[0]              = c->v[2 * e];
@@ -446,22 +454,22 @@ static void BwEdgeShape(void *ctx, PetscInt e, PetscReal P[2], PetscReal Q[2], P
   *rx = *ry = c->reach;
 }
 
-PetscErrorCode BwDetectInterfaces(BwGeometry g, const BwTolerance *tol)
+PetscErrorCode BwDetectInterfaces(const BwBlockView *v, const BwTolerance *tol, BwDecide decide, void *dctx, PetscInt *nout, PetscInt **pairout, BwSegment **segout)
 {
-  PetscInt       nb = g->nblocks, nv = g->offsets[nb], np = 0, pcap = 0, *blk, *next, *count;
+  PetscInt       nb = v->n, nv = v->offsets[nb], np = 0, pcap = 0, *blk, *next, *count, nfound = 0, fcap = 0, *pair = NULL;
   BwPiece       *p = NULL, *sorted;
   BwGrid         grid;
   BwEdgeShapeCtx ctx;
-  BwSegBuf       out = {0, 0, NULL};
+  BwSegBuf       out = {0, 0, NULL}, found = {0, 0, NULL};
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc2(nv, &blk, nv, &next));
   for (PetscInt b = 0; b < nb; b++)
-    for (PetscInt e = g->offsets[b]; e < g->offsets[b + 1]; e++) {
+    for (PetscInt e = v->offsets[b]; e < v->offsets[b + 1]; e++) {
       blk[e]  = b;
-      next[e] = e + 1 < g->offsets[b + 1] ? e + 1 : g->offsets[b];
+      next[e] = e + 1 < v->offsets[b + 1] ? e + 1 : v->offsets[b];
     }
-  ctx.v     = g->vertices;
+  ctx.v     = v->x;
   ctx.next  = next;
   ctx.reach = 0.5 * tol->gapmax + tol->delta;
   /* Cells about the size of a typical edge: an edge then touches a few
@@ -475,7 +483,9 @@ PetscErrorCode BwDetectInterfaces(BwGeometry g, const BwTolerance *tol)
       if (blk[eb] == blk[ea]) continue;
       a = blk[ea] < blk[eb] ? ea : eb;
       b = blk[ea] < blk[eb] ? eb : ea;
-      if (!BwFacing(g->vertices, a, next[a], b, next[b], tol, &f)) continue;
+      if (!BwFacing(v->x, a, next[a], b, next[b], tol, &f)) continue;
+      /* another rank decides this pair: it holds both blocks too */
+      if (decide && !decide(dctx, blk[a], blk[b])) continue;
       if (np == pcap) {
         pcap = PetscMax(2 * pcap, 1024);
         PetscCall(PetscRealloc(sizeof(BwPiece) * (size_t)pcap, &p));
@@ -507,8 +517,17 @@ PetscErrorCode BwDetectInterfaces(BwGeometry g, const BwTolerance *tol)
       PetscInt r1 = r0;
       while (r1 < k1 && sorted[r1].j == sorted[r0].j) r1++;
       out.n = 0;
-      PetscCall(BwMergePieces(g->vertices, r1 - r0, sorted + r0, tol, &out));
-      for (PetscInt s = 0; s < out.n; s++) PetscCall(BwGeometryAddInterface(g, sorted[r0].i, sorted[r0].j, out.s[s].center, out.s[s].angle, out.s[s].length, BW_JOINT_BED));
+      PetscCall(BwMergePieces(v->x, r1 - r0, sorted + r0, tol, &out));
+      for (PetscInt s = 0; s < out.n; s++) {
+        if (nfound == fcap) {
+          fcap = PetscMax(2 * fcap, 1024);
+          PetscCall(PetscRealloc(sizeof(PetscInt) * 2 * (size_t)fcap, &pair));
+        }
+        pair[2 * nfound]     = sorted[r0].i;
+        pair[2 * nfound + 1] = sorted[r0].j;
+        nfound++;
+        PetscCall(BwSegBufPush(&found, &out.s[s]));
+      }
       r0 = r1;
     }
     k0 = k1;
@@ -517,5 +536,8 @@ PetscErrorCode BwDetectInterfaces(BwGeometry g, const BwTolerance *tol)
   PetscCall(PetscFree(sorted));
   PetscCall(PetscFree(count));
   PetscCall(PetscFree2(blk, next));
+  *nout    = nfound;
+  *pairout = pair;
+  *segout  = found.s;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

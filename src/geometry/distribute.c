@@ -265,7 +265,7 @@ static PetscErrorCode BwPackBlock(BwGeometry g, BwPacker *p, PetscMPIInt dest, P
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwPackInterface(BwGeometry g, BwPacker *p, PetscMPIInt dest, PetscInt k, const PetscInt gpoly[], PetscBool stiff)
+static PetscErrorCode BwPackInterface(BwGeometry g, BwPacker *p, PetscMPIInt dest, PetscInt k, const PetscInt gpoly[], int stiff)
 {
   const PetscInt  d = g->dim;
   BwInterfaceHead h;
@@ -456,7 +456,7 @@ static PetscErrorCode BwUnpackBlocks(BwGeometry g, const char *recv, size_t nrec
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwUnpackInterfaces(BwGeometry g, const char *recv, size_t nrecv, PetscBool stiff)
+static PetscErrorCode BwUnpackInterfaces(BwGeometry g, const char *recv, size_t nrecv, int stiff)
 {
   const PetscInt d = g->dim;
   BwArrived     *arr = NULL;
@@ -495,10 +495,9 @@ static PetscErrorCode BwUnpackInterfaces(BwGeometry g, const char *recv, size_t 
     PetscCall(PetscMalloc1(n + 1, &g->angle));
     PetscCall(PetscMalloc1(n + 1, &g->length));
   }
-  if (stiff) {
-    PetscCall(PetscMalloc1(n + 1, &g->kn));
-    PetscCall(PetscMalloc1(n + 1, &g->kt));
-  }
+  /* only those the generator gave: a missing one is the joint law's */
+  if (stiff & 1) PetscCall(PetscMalloc1(n + 1, &g->kn));
+  if (stiff & 2) PetscCall(PetscMalloc1(n + 1, &g->kt));
   for (PetscInt k = 0; k < n; k++) {
     const char     *at = arr[k].at;
     BwInterfaceHead h;
@@ -522,8 +521,8 @@ static PetscErrorCode BwUnpackInterfaces(BwGeometry g, const char *recv, size_t 
     if (stiff) {
       PetscReal kk[2];
       BwUnpack(&at, kk, sizeof(kk));
-      g->kn[k] = kk[0];
-      g->kt[k] = kk[1];
+      if (stiff & 1) g->kn[k] = kk[0];
+      if (stiff & 2) g->kt[k] = kk[1];
     }
   }
   PetscCall(PetscFree(arr));
@@ -583,7 +582,7 @@ PetscErrorCode BwGeometryDistribute(BwGeometry g, BwPartitionMethod method)
   PetscMPIInt  size, rank;
   PetscInt    *gvoff = NULL, *gpoly = NULL, *start, *newowner, *jowner, *memb, *mset, *mpos;
   PetscMPIInt *owner;
-  PetscBool    stiff = PETSC_FALSE, have = g->kn ? PETSC_TRUE : PETSC_FALSE;
+  int          stiff = 0, have = (g->kn ? 1 : 0) | (g->kt ? 2 : 0); /* which of kn, kt the generator gave */
   BwPacker     pb, pi;
   char        *recv;
   size_t       nrecv;
@@ -600,7 +599,7 @@ PetscErrorCode BwGeometryDistribute(BwGeometry g, BwPartitionMethod method)
     g->distributed = PETSC_TRUE;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
-  PetscCallMPI(MPIU_Allreduce(&have, &stiff, 1, MPIU_BOOL, MPI_LOR, g->comm));
+  PetscCallMPI(MPI_Allreduce(&have, &stiff, 1, MPI_INT, MPI_BOR, g->comm));
   if (method == BW_PARTITION_AUTO) {
 #if defined(PETSC_HAVE_PTSCOTCH) || defined(PETSC_HAVE_PARMETIS)
     method = BW_PARTITION_GRAPH;

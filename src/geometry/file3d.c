@@ -31,12 +31,22 @@
  * the blocks overlap when it exceeds BW_OVERLAP_VOLUME of the smaller
  * block's volume (interface.md: "interiors sharing more than a relative
  * tolerance of the smaller volume"). Touching faces of dry joints (depth
- * 0) do not overlap, nor does a corner drawn a little into a neighbour. */
+ * 0) do not overlap, nor does a corner drawn a little into a neighbour.
+ *
+ * In parallel (file.c) each rank builds the hulls of its share; the
+ * candidates are those of the blocks of each rank's region (spatial.c),
+ * each pair taken by the one rank that decides it, whose interface goes
+ * to the rank of the pair's first block: the candidate set (the pairs
+ * whose boxes, grown by gapmax, meet) does not depend on the grid that
+ * finds it, so every rank sees the serial reader's pairs and computes
+ * their polygons with the same arithmetic. Listed pairs are computed by
+ * the rank deciding them, their rows grouped where their first block is. */
 #include <stdlib.h>
 #include <string.h>
 #include "geometry/validate.h"
 #include "blockwall/kernels.h"
 #include "util/compat.h"
+#include "util/exchange.h"
 
 #define BW_FACING_ANGLE_3D 1e-3
 #define BW_BIG_CELLS       4096
@@ -58,7 +68,7 @@ static void      BwCross(const PetscReal a[3], const PetscReal b[3], PetscReal c
 typedef struct {
   PetscInt      nb;
   const PetscReal *x;       /* 3 per vertex */
-  const int64_t   *offsets; /* per block */
+  const PetscInt  *offsets; /* per block, n + 1 */
   BwPolyhedron    *P;
   PetscReal       *box;     /* 6 per block: lo, hi */
 } BwBlocks3;
@@ -69,7 +79,7 @@ static void BwProject(const BwBlocks3 *B, PetscInt b, const PetscReal axis[3], P
 {
   *lo = PETSC_MAX_REAL;
   *hi = PETSC_MIN_REAL;
-  for (int64_t v = B->offsets[b]; v < B->offsets[b + 1]; v++) {
+  for (PetscInt v = B->offsets[b]; v < B->offsets[b + 1]; v++) {
     PetscReal s = BwDot(axis, &B->x[3 * v]);
     *lo         = PetscMin(*lo, s);
     *hi         = PetscMax(*hi, s);
@@ -607,69 +617,287 @@ static PetscErrorCode BwAddInterface3D(BwGeometry g, PetscInt i, PetscInt j, con
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwFileBuild3D(BwGeometry g, const char file[], PetscInt nv, const PetscReal xyz[], PetscInt nb, const int64_t offsets[], PetscBool has_pairs, PetscInt ni, const int64_t pairs[], PetscReal thickness)
+/* The boxes (6 per block: lo, hi) of the blocks of a view. */
+static void BwBoxes3D(PetscInt nb, const PetscInt offsets[], const PetscReal x[], PetscReal box[])
 {
-  BwBlocks3  B;
-  BwTol3     tol;
-  PetscReal  xmax = 0, *diag, h, *work = NULL;
-  PetscInt   maxw = 0, nf = 0, nfv = 0, np, *pr;
-  BwPoly3    poly = {0, 0, NULL};
-  BwFaces3   fw[3] = {{0, 0, 0, 0, NULL, NULL}, {0, 0, 0, 0, NULL, NULL}, {0, 0, 0, 0, NULL, NULL}}; /* the overlap check's work */
+  for (PetscInt b = 0; b < nb; b++) {
+    PetscReal *bx = &box[6 * b];
+    for (int d = 0; d < 3; d++) bx[d] = PETSC_MAX_REAL, bx[3 + d] = PETSC_MIN_REAL;
+    for (PetscInt v = offsets[b]; v < offsets[b + 1]; v++)
+      for (int d = 0; d < 3; d++) {
+        bx[d]     = PetscMin(bx[d], x[3 * v + d]);
+        bx[3 + d] = PetscMax(bx[3 + d], x[3 * v + d]);
+      }
+  }
+}
+
+/* An interface polygon on its way: the pair (global ids) or the listed
+ * row, the normal, the polygon. */
+typedef struct {
+  PetscInt  i, j, npoly;
+  PetscReal n[3];
+} BwPolyHead;
+
+typedef struct {
+  PetscInt    i, j;
+  const char *at;
+} BwPolyAt;
+
+static int BwPolyAtCompare(const void *x, const void *y)
+{
+  const BwPolyAt *a = (const BwPolyAt *)x, *b = (const BwPolyAt *)y;
+  if (a->i != b->i) return a->i < b->i ? -1 : 1;
+  return (a->j > b->j) - (a->j < b->j);
+}
+
+static PetscErrorCode BwPackPoly(BwPacker *p, PetscMPIInt dest, PetscInt i, PetscInt j, const BwPoly3 *poly, const PetscReal n[3])
+{
+  BwPolyHead h = {i, j, poly->n, {n[0], n[1], n[2]}};
 
   PetscFunctionBeginUser;
-  for (PetscInt b = 0; b < nb; b++)
-    for (int64_t v = offsets[b]; v < offsets[b + 1]; v++)
-      PetscCheck(!PetscIsInfOrNanReal(xyz[3 * v]) && !PetscIsInfOrNanReal(xyz[3 * v + 1]) && !PetscIsInfOrNanReal(xyz[3 * v + 2]), PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: block %" PetscInt_FMT ": vertex row %lld is not finite (%g, %g, %g)", file, b, (long long)v, (double)xyz[3 * v], (double)xyz[3 * v + 1], (double)xyz[3 * v + 2]);
-  B.nb      = nb;
-  B.x       = xyz;
-  B.offsets = offsets;
-  PetscCall(PetscCalloc1(nb + 1, &B.P));
-  PetscCall(PetscMalloc2(6 * nb + 1, &B.box, nb + 1, &diag));
-  for (PetscInt k = 0; k < 3 * nv; k++) xmax = PetscMax(xmax, PetscAbsReal(xyz[k]));
-  for (PetscInt b = 0; b < nb; b++) {
-    PetscReal *bx = &B.box[6 * b];
-    for (int d = 0; d < 3; d++) bx[d] = PETSC_MAX_REAL, bx[3 + d] = PETSC_MIN_REAL;
-    for (int64_t v = offsets[b]; v < offsets[b + 1]; v++)
-      for (int d = 0; d < 3; d++) {
-        bx[d]     = PetscMin(bx[d], xyz[3 * v + d]);
-        bx[3 + d] = PetscMax(bx[3 + d], xyz[3 * v + d]);
-      }
-    diag[b] = offsets[b + 1] > offsets[b] ? PetscSqrtReal(PetscSqr(bx[3] - bx[0]) + PetscSqr(bx[4] - bx[1]) + PetscSqr(bx[5] - bx[2])) : 0;
-    maxw    = PetscMax(maxw, (PetscInt)(offsets[b + 1] - offsets[b]));
-  }
-  PetscCall(PetscSortReal(nb, diag));
-  h              = diag[nb / 2];
-  tol.delta      = 1e-6 * h + 1e-12 * xmax;
-  tol.gapmax     = thickness * (1 + 1e-6) + tol.delta;
-  tol.cosang     = PetscCosReal(BW_FACING_ANGLE_3D);
-  PetscCall(PetscFree2(B.box, diag));
-  PetscCall(PetscMalloc1(6 * nb + 1, &B.box));
-  for (PetscInt b = 0; b < nb; b++) {
-    PetscReal *bx = &B.box[6 * b];
-    for (int d = 0; d < 3; d++) bx[d] = PETSC_MAX_REAL, bx[3 + d] = PETSC_MIN_REAL;
-    for (int64_t v = offsets[b]; v < offsets[b + 1]; v++)
-      for (int d = 0; d < 3; d++) {
-        bx[d]     = PetscMin(bx[d], xyz[3 * v + d]);
-        bx[3 + d] = PetscMax(bx[3 + d], xyz[3 * v + d]);
-      }
-  }
-  /* hulls, and the blocks into g */
-  {
-    PetscErrorCode ierr = PETSC_SUCCESS;
-    for (PetscInt b = 0; b < nb && !ierr; b++) {
-      ierr = BwPolyhedronHull(file, b, (PetscInt)offsets[b], (PetscInt)(offsets[b + 1] - offsets[b]), &xyz[3 * offsets[b]], tol.delta, &B.P[b]);
-      if (!ierr) {
-        nf += B.P[b].nfaces;
-        nfv += B.P[b].face_offsets[B.P[b].nfaces];
-      }
+  PetscCall(BwPack(p, dest, &h, sizeof(h)));
+  PetscCall(BwPack(p, dest, poly->p, sizeof(PetscReal) * 3 * poly->n));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* What arrived (polygons keyed by (i, j): a pair, or (row, 0): a listed
+ * row), added to g in key order with their pairs: a detected one's own, a
+ * listed row's from pairs[] (the home rows, in row order). */
+static PetscErrorCode BwAddArrived3D(BwGeometry g, const char *recv, size_t nrecv, const PetscInt pairs[])
+{
+  BwPolyAt *at = NULL;
+  PetscInt  n = 0, cap = 0;
+  BwPoly3   poly = {0, 0, NULL};
+
+  PetscFunctionBeginUser;
+  for (const char *c = recv; c < recv + nrecv;) {
+    BwPolyHead h;
+    memcpy(&h, c, sizeof(h));
+    if (n == cap) {
+      cap = PetscMax(2 * cap, 256);
+      PetscCall(PetscRealloc(sizeof(BwPolyAt) * (size_t)cap, &at));
     }
-    if (ierr) {
-      for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&B.P[b]));
-      PetscCall(PetscFree(B.P));
-      PetscCall(PetscFree(B.box));
-      PetscCall(ierr); /* the hull's message, as it was raised */
-    }
+    at[n].i    = h.i;
+    at[n].j    = h.j;
+    at[n++].at = c;
+    c += sizeof(h) + sizeof(PetscReal) * 3 * (size_t)h.npoly;
   }
+  qsort(at, (size_t)n, sizeof(BwPolyAt), BwPolyAtCompare);
+  for (PetscInt k = 0; k < n; k++) {
+    const char *c = at[k].at;
+    BwPolyHead  h;
+    BwUnpack(&c, &h, sizeof(h));
+    poly.n = h.npoly;
+    poly.p = (PetscReal *)c; /* read only */
+    if (pairs) PetscCall(BwAddInterface3D(g, pairs[2 * k], pairs[2 * k + 1], &poly, h.n));
+    else PetscCall(BwAddInterface3D(g, h.i, h.j, &poly, h.n));
+  }
+  PetscCall(PetscFree(at));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+typedef struct {
+  PetscInt i, j, row;
+} BwRow3;
+
+static int BwRow3Compare(const void *x, const void *y)
+{
+  const BwRow3 *p = (const BwRow3 *)x, *q = (const BwRow3 *)y;
+  if (p->i != q->i) return p->i < q->i ? -1 : 1;
+  if (p->j != q->j) return p->j < q->j ? -1 : 1;
+  return (p->row > q->row) - (p->row < q->row);
+}
+
+/* The work of the pairwise phases on this rank's region. */
+typedef struct {
+  BwBlocks3  R;
+  PetscReal *work;
+  PetscInt   maxw;
+  BwPoly3    poly;
+  BwFaces3   fw[3]; /* the overlap check's */
+} BwPairWork;
+
+static PetscErrorCode BwPairWorkDestroy(BwPairWork *w)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(w->R.box));
+  PetscCall(PetscFree(w->work));
+  PetscCall(PetscFree(w->poly.p));
+  for (int k = 0; k < 3; k++) PetscCall(BwFacesDestroy(&w->fw[k]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Listed interfaces: the rows of each pair, grouped where its first block
+ * is, to the rank deciding the pair; the faults in the serial order (by
+ * row: a pair's first row where the blocks do not face, else its second,
+ * a repeat); each polygon back to its row's rank. */
+static PetscErrorCode BwListed3D(BwGeometry g, const BwShare3D *sh, const BwBlockView *share, const BwBlockView *region, const BwSpatial *sp, const BwTol3 *tol, BwPairWork *w, int64_t stage)
+{
+  const PetscInt n = sh->nlisted;
+  BwRow3        *rows;
+  PetscMPIInt   *dec, size;
+  BwFault        f;
+  BwPacker       p;
+  char          *recv;
+  size_t         nrecv;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(g->comm, &size));
+  BwFaultInit(&f);
+  PetscCall(PetscMalloc2(n + 1, &rows, n + 1, &dec));
+  PetscCall(BwListedDeciders(g->comm, share, sp, sh->B, n, sh->pairs, dec));
+  for (PetscInt k = 0; k < n; k++) {
+    rows[k].i   = sh->pairs[2 * k];
+    rows[k].j   = sh->pairs[2 * k + 1];
+    rows[k].row = k;
+  }
+  qsort(rows, (size_t)n, sizeof(BwRow3), BwRow3Compare);
+  PetscCall(BwPackerCreate(g->comm, &p));
+  for (PetscInt r0 = 0; r0 < n;) {
+    PetscInt r1 = r0, i = rows[r0].i, j = rows[r0].j, q = dec[rows[r0].row], m;
+    while (r1 < n && rows[r1].i == i && rows[r1].j == j) r1++;
+    m = r1 - r0;
+    if (q < 0) {
+      PetscInt k = sh->rows[rows[r0].row];
+      BwFaultSet(&f, stage, k, PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: interface %" PetscInt_FMT " joins blocks %" PetscInt_FMT " and %" PetscInt_FMT ", which have no facing faces (outward normals opposite within %g rad, at most e + tolerance = %g m apart, overlapping by more than 1e-9 of the smaller face)", sh->path, k, i, j, (double)BW_FACING_ANGLE_3D, (double)tol->gapmax);
+    } else {
+      PetscCall(BwPack(&p, q, &i, sizeof(i)));
+      PetscCall(BwPack(&p, q, &j, sizeof(j)));
+      PetscCall(BwPack(&p, q, &m, sizeof(m)));
+      for (PetscInt r = r0; r < r1; r++) PetscCall(BwPack(&p, q, &sh->rows[rows[r].row], sizeof(PetscInt)));
+    }
+    r0 = r1;
+  }
+  PetscCall(PetscFree2(rows, dec));
+  PetscCall(BwPackerExchange(g->comm, &p, &recv, &nrecv, NULL));
+  PetscCall(BwPackerDestroy(&p));
+  PetscCall(BwPackerCreate(g->comm, &p));
+  for (const char *at = recv; at < recv + nrecv;) {
+    PetscInt  i, j, m, li, lj, *row;
+    PetscReal nrm[3];
+    PetscBool found;
+    BwUnpack(&at, &i, sizeof(i));
+    BwUnpack(&at, &j, sizeof(j));
+    BwUnpack(&at, &m, sizeof(m));
+    row = (PetscInt *)at; /* ascending */
+    at += sizeof(PetscInt) * (size_t)m;
+    PetscCall(PetscFindInt(i, region->n, region->gid, &li));
+    PetscCall(PetscFindInt(j, region->n, region->gid, &lj));
+    PetscCheck(li >= 0 && lj >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the pair (%" PetscInt_FMT ", %" PetscInt_FMT ") was sent to a rank without its blocks", i, j);
+    PetscCall(BwFacing3D(&w->R, tol, li, lj, w->work, w->maxw + 4, &w->poly, nrm, &found));
+    if (!found) {
+      BwFaultSet(&f, stage, row[0], PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: interface %" PetscInt_FMT " joins blocks %" PetscInt_FMT " and %" PetscInt_FMT ", which have no facing faces (outward normals opposite within %g rad, at most e + tolerance = %g m apart, overlapping by more than 1e-9 of the smaller face)", sh->path, row[0], i, j, (double)BW_FACING_ANGLE_3D, (double)tol->gapmax);
+      continue;
+    }
+    if (m > 1) {
+      BwFaultSet(&f, stage, row[1], PETSC_ERR_USER_INPUT, "%s: /interfaces/blocks: interface %" PetscInt_FMT " repeats the pair (%" PetscInt_FMT ", %" PetscInt_FMT ") of interface %" PetscInt_FMT ": two convex blocks touch across at most one plane", sh->path, row[1], i, j, row[0]);
+      continue;
+    }
+    PetscCall(BwPackPoly(&p, BwSplitRank(sh->B, size, i), row[0], 0, &w->poly, nrm));
+  }
+  PetscCall(PetscFree(recv));
+  ierr = BwFaultAgree(g->comm, &f);
+  if (ierr) PetscCall(BwPackerDestroy(&p));
+  PetscCall(ierr);
+  PetscCall(BwPackerExchange(g->comm, &p, &recv, &nrecv, NULL));
+  PetscCall(BwPackerDestroy(&p));
+  /* keyed by row, which the home rows ascend with: their pairs in order */
+  PetscCall(BwAddArrived3D(g, recv, nrecv, sh->pairs));
+  PetscCheck(g->ninterfaces == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " listed interfaces came back of %" PetscInt_FMT, g->ninterfaces, n);
+  PetscCall(PetscFree(recv));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Candidate pairs of the region that this rank decides: the overlap check
+ * (the first overlapping pair, by ids, as a fault), and with `detect` the
+ * facing faces, each interface to the rank of its first block. */
+static PetscErrorCode BwPairs3D(BwGeometry g, const BwShare3D *sh, const BwBlockView *region, const BwSpatial *sp, const BwTol3 *tol, PetscReal h, BwPairWork *w, PetscBool detect, int64_t stage)
+{
+  BwDecideCtx    dc = {sp, region};
+  PetscInt       np, *pr;
+  BwFault        f;
+  BwPacker       p;
+  char          *recv;
+  size_t         nrecv;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  BwFaultInit(&f);
+  PetscCall(BwPackerCreate(g->comm, &p));
+  PetscCall(BwCandidates3D(&w->R, h > 0 ? h : 1, tol->gapmax, &np, &pr));
+  for (PetscInt k = 0; k < np; k++) {
+    PetscInt  i = pr[2 * k], j = pr[2 * k + 1];
+    PetscReal depth, shared, n[3];
+    PetscBool found;
+    if (sp->size > 1 && !BwDecideHere(&dc, i, j)) continue;
+    PetscCall(BwOverlap3D(&w->R, tol, i, j, w->fw, &depth, &shared));
+    if (depth > 0) {
+      BwFaultSet(&f, stage, (int64_t)region->gid[i] * sh->B + region->gid[j], PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %g m^3, %.3g of the smaller block (tolerance %g), %g m deep along every separating direction", sh->path, region->gid[i], region->gid[j], (double)shared, (double)(shared / PetscMin(w->R.P[i].volume, w->R.P[j].volume)), (double)BW_OVERLAP_VOLUME, (double)depth);
+      break;
+    }
+    if (!detect) continue;
+    PetscCall(BwFacing3D(&w->R, tol, i, j, w->work, w->maxw + 4, &w->poly, n, &found));
+    if (!found) continue;
+    if (sp->size == 1) PetscCall(BwAddInterface3D(g, i, j, &w->poly, n));
+    else PetscCall(BwPackPoly(&p, BwSplitRank(sh->B, sp->size, region->gid[i]), region->gid[i], region->gid[j], &w->poly, n));
+  }
+  PetscCall(PetscFree(pr));
+  ierr = BwFaultAgree(g->comm, &f);
+  if (ierr) PetscCall(BwPackerDestroy(&p));
+  PetscCall(ierr);
+  if (detect && sp->size > 1) {
+    PetscCall(BwPackerExchange(g->comm, &p, &recv, &nrecv, NULL));
+    PetscCall(BwAddArrived3D(g, recv, nrecv, NULL));
+    PetscCall(PetscFree(recv));
+  }
+  PetscCall(BwPackerDestroy(&p));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwFileBuild3D(BwGeometry g, const BwShare3D *sh, PetscReal thickness, int64_t stage)
+{
+  const PetscInt nb = sh->nb, nv = sh->offsets[nb];
+  BwTol3         tol;
+  PetscReal      xmax = 0, gxmax, *diag, *box, h;
+  PetscInt       nf = 0, nfv = 0;
+  BwPolyhedron  *P;
+  BwBlockView    share, region;
+  BwSpatial      sp;
+  BwFault        f;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  /* delta: the median diagonal of every block's box, exactly as the serial
+   * reader sorted them all, and the largest |coordinate| */
+  PetscCall(PetscMalloc2(6 * nb + 1, &box, nb + 1, &diag));
+  BwBoxes3D(nb, sh->offsets, sh->x, box);
+  for (PetscInt k = 0; k < 3 * nv; k++) xmax = PetscMax(xmax, PetscAbsReal(sh->x[k]));
+  for (PetscInt b = 0; b < nb; b++) {
+    const PetscReal *bx = &box[6 * b];
+    diag[b]             = sh->offsets[b + 1] > sh->offsets[b] ? PetscSqrtReal(PetscSqr(bx[3] - bx[0]) + PetscSqr(bx[4] - bx[1]) + PetscSqr(bx[5] - bx[2])) : 0;
+  }
+  PetscCallMPI(MPIU_Allreduce(&xmax, &gxmax, 1, MPIU_REAL, MPIU_MAX, g->comm));
+  PetscCall(BwSelectReal(g->comm, nb, diag, sh->B / 2, &h));
+  tol.delta  = 1e-6 * h + 1e-12 * gxmax;
+  tol.gapmax = thickness * (1 + 1e-6) + tol.delta;
+  tol.cosang = PetscCosReal(BW_FACING_ANGLE_3D);
+  /* hulls */
+  BwFaultInit(&f);
+  PetscCall(PetscCalloc1(nb + 1, &P));
+  for (PetscInt b = 0; b < nb; b++) {
+    if (BwFaultCatch(&f, stage + 1, sh->b0 + b, BwPolyhedronHull(sh->path, sh->b0 + b, sh->vstart + sh->offsets[b], sh->offsets[b + 1] - sh->offsets[b], &sh->x[3 * sh->offsets[b]], tol.delta, &P[b]))) break;
+    nf += P[b].nfaces;
+    nfv += P[b].face_offsets[P[b].nfaces];
+  }
+  ierr = BwFaultAgree(g->comm, &f);
+  if (ierr) {
+    for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&P[b]));
+    PetscCall(PetscFree(P));
+    PetscCall(PetscFree2(box, diag));
+  }
+  PetscCall(ierr);
+  /* the blocks into g */
   g->dim = 3;
   PetscCall(PetscRealloc(sizeof(PetscInt) * (size_t)(nb + 1), &g->offsets));
   PetscCall(PetscFree(g->vertices));
@@ -681,100 +909,66 @@ PetscErrorCode BwFileBuild3D(BwGeometry g, const char file[], PetscInt nv, const
   PetscCall(PetscMalloc1(nb + 1, &g->face_offsets));
   PetscCall(PetscMalloc1(nf + 1, &g->face_voffsets));
   PetscCall(PetscMalloc1(nfv + 1, &g->face_vertices));
-  PetscCall(PetscArraycpy(g->vertices, xyz, 3 * nv));
+  PetscCall(PetscArraycpy(g->vertices, sh->x, 3 * nv));
   g->nblocks = g->maxblocks = nb;
   g->nvertices = g->maxvertices = nv;
   g->face_offsets[0] = g->face_voffsets[0] = 0;
   nf = nfv = 0;
   for (PetscInt b = 0; b < nb; b++) {
-    const BwPolyhedron *P = &B.P[b];
-    g->offsets[b] = (PetscInt)offsets[b];
-    g->volume[b]  = P->volume;
-    for (int d = 0; d < 3; d++) g->centroid[3 * b + d] = P->centroid[d];
-    for (PetscInt f = 0; f < P->nfaces; f++) {
-      for (PetscInt k = P->face_offsets[f]; k < P->face_offsets[f + 1]; k++) g->face_vertices[nfv++] = (PetscInt)offsets[b] + P->face_vertices[k];
+    g->offsets[b] = sh->offsets[b];
+    g->volume[b]  = P[b].volume;
+    for (int d = 0; d < 3; d++) g->centroid[3 * b + d] = P[b].centroid[d];
+    for (PetscInt fc = 0; fc < P[b].nfaces; fc++) {
+      for (PetscInt k = P[b].face_offsets[fc]; k < P[b].face_offsets[fc + 1]; k++) g->face_vertices[nfv++] = sh->offsets[b] + P[b].face_vertices[k];
       g->face_voffsets[++nf] = nfv;
     }
     g->face_offsets[b + 1] = nf;
   }
   g->offsets[nb] = nv;
 
-  PetscCall(PetscMalloc1(12 * (maxw + 4) + 1, &work)); /* two faces, and two clips of up to both their vertices */
-  if (!has_pairs) {
-    /* candidates, the overlap check, the facing faces */
-    PetscCall(BwCandidates3D(&B, h > 0 ? h : 1, tol.gapmax, &np, &pr));
-    for (PetscInt k = 0; k < np; k++) {
-      PetscInt  i = pr[2 * k], j = pr[2 * k + 1];
-      PetscReal depth, shared, n[3];
-      PetscBool found;
-      PetscCall(BwOverlap3D(&B, &tol, i, j, fw, &depth, &shared));
-      if (depth > 0) {
-        PetscReal frac = shared / PetscMin(B.P[i].volume, B.P[j].volume);
-        PetscCall(PetscFree(pr));
-        PetscCall(PetscFree(work));
-        PetscCall(PetscFree(poly.p));
-        for (int w = 0; w < 3; w++) PetscCall(BwFacesDestroy(&fw[w]));
-        for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&B.P[b]));
-        PetscCall(PetscFree(B.P));
-        PetscCall(PetscFree(B.box));
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %g m^3, %.3g of the smaller block (tolerance %g), %g m deep along every separating direction", file, i, j, (double)shared, (double)frac, (double)BW_OVERLAP_VOLUME, (double)depth);
-      }
-      PetscCall(BwFacing3D(&B, &tol, i, j, work, maxw + 4, &poly, n, &found));
-      if (found) PetscCall(BwAddInterface3D(g, i, j, &poly, n));
-    }
-    PetscCall(PetscFree(pr));
-  } else {
-    PetscErrorCode ierr = PETSC_SUCCESS;
-    char           msg[512];
-    /* listed interfaces: the blocks are checked for overlap all the same */
-    PetscCall(BwCandidates3D(&B, h > 0 ? h : 1, tol.gapmax, &np, &pr));
-    for (PetscInt k = 0; k < np && !ierr; k++) {
-      PetscInt  i = pr[2 * k], j = pr[2 * k + 1];
-      PetscReal depth, shared;
-      PetscCall(BwOverlap3D(&B, &tol, i, j, fw, &depth, &shared));
-      if (depth > 0) {
-        ierr = PETSC_ERR_USER_INPUT;
-        PetscCall(PetscSNPrintf(msg, sizeof(msg), "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %g m^3, %.3g of the smaller block (tolerance %g), %g m deep along every separating direction", file, i, j, (double)shared, (double)(shared / PetscMin(B.P[i].volume, B.P[j].volume)), (double)BW_OVERLAP_VOLUME, (double)depth));
-      }
-    }
-    PetscCall(PetscFree(pr));
-    for (PetscInt k = 0; k < ni && !ierr; k++) {
-      PetscInt  i = (PetscInt)pairs[2 * k], j = (PetscInt)pairs[2 * k + 1];
-      PetscReal n[3];
-      PetscBool found;
-      for (PetscInt l = 0; l < k && !ierr; l++)
-        if (pairs[2 * l] == i && pairs[2 * l + 1] == j) {
-          ierr = PETSC_ERR_USER_INPUT;
-          PetscCall(PetscSNPrintf(msg, sizeof(msg), "%s: /interfaces/blocks: interface %" PetscInt_FMT " repeats the pair (%" PetscInt_FMT ", %" PetscInt_FMT ") of interface %" PetscInt_FMT ": two convex blocks touch across at most one plane", file, k, i, j, l));
-        }
-      if (ierr) break;
-      PetscCall(BwFacing3D(&B, &tol, i, j, work, maxw + 4, &poly, n, &found));
-      if (!found) {
-        ierr = PETSC_ERR_USER_INPUT;
-        PetscCall(PetscSNPrintf(msg, sizeof(msg), "%s: /interfaces/blocks: interface %" PetscInt_FMT " joins blocks %" PetscInt_FMT " and %" PetscInt_FMT ", which have no facing faces (outward normals opposite within %g rad, at most e + tolerance = %g m apart, overlapping by more than 1e-9 of the smaller face)", file, k, i, j, (double)BW_FACING_ANGLE_3D, (double)tol.gapmax));
-        break;
-      }
-      PetscCall(BwAddInterface3D(g, i, j, &poly, n));
-    }
-    if (ierr) {
-      PetscCall(PetscFree(work));
-      PetscCall(PetscFree(poly.p));
-      for (int w = 0; w < 3; w++) PetscCall(BwFacesDestroy(&fw[w]));
-      for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&B.P[b]));
-      PetscCall(PetscFree(B.P));
-      PetscCall(PetscFree(B.box));
-      SETERRQ(PETSC_COMM_SELF, ierr, "%s", msg);
+  /* the share as a view, each box grown by what facing faces can be apart
+   * (validate.h: gapmax + 2 delta + 1e-3 of the block's diagonal) */
+  PetscCall(PetscMemzero(&share, sizeof(share)));
+  share.dim     = 3;
+  share.n       = nb;
+  share.offsets = g->offsets;
+  share.x       = g->vertices;
+  share.P       = P;
+  PetscCall(PetscMalloc2(nb + 1, &share.gid, 6 * nb + 1, &share.gbox));
+  for (PetscInt b = 0; b < nb; b++) {
+    const PetscReal grow = tol.gapmax + 2 * tol.delta + 1e-3 * diag[b];
+    share.gid[b]         = sh->b0 + b;
+    for (int d = 0; d < 3; d++) {
+      share.gbox[6 * b + d]     = box[6 * b + d] - grow;
+      share.gbox[6 * b + 3 + d] = box[6 * b + 3 + d] + grow;
     }
   }
+  PetscCall(PetscFree2(box, diag));
+  ierr = BwSpatialCreate(g->comm, &share, &sp);
+  if (!ierr) ierr = BwSpatialExchange(&sp, &share, &region);
+  if (!ierr) {
+    BwPairWork w;
+    PetscCall(PetscMemzero(&w, sizeof(w)));
+    w.R.nb      = region.n;
+    w.R.x       = region.x;
+    w.R.offsets = region.offsets;
+    w.R.P       = region.P;
+    PetscCall(PetscMalloc1(6 * region.n + 1, &w.R.box));
+    BwBoxes3D(region.n, region.offsets, region.x, w.R.box);
+    for (PetscInt b = 0; b < region.n; b++) w.maxw = PetscMax(w.maxw, region.offsets[b + 1] - region.offsets[b]);
+    PetscCall(PetscMalloc1(12 * (w.maxw + 4) + 1, &w.work)); /* two faces, and two clips of up to both their vertices */
+    ierr = BwPairs3D(g, sh, &region, &sp, &tol, h, &w, sh->listed ? PETSC_FALSE : PETSC_TRUE, stage + 2);
+    if (!ierr && sh->listed) ierr = BwListed3D(g, sh, &share, &region, &sp, &tol, &w, stage + 3);
+    PetscCall(BwPairWorkDestroy(&w));
+    PetscCall(BwBlockViewDestroy(&region));
+  }
+  for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&P[b]));
+  PetscCall(PetscFree(P));
+  PetscCall(PetscFree2(share.gid, share.gbox));
+  PetscCall(ierr);
   if (!g->poly_offsets) {
     PetscCall(PetscMalloc1(1, &g->poly_offsets));
     g->poly_offsets[0] = 0;
   }
-  PetscCall(PetscFree(work));
-  PetscCall(PetscFree(poly.p));
-  for (int w = 0; w < 3; w++) PetscCall(BwFacesDestroy(&fw[w]));
-  for (PetscInt b = 0; b < nb; b++) PetscCall(BwPolyhedronDestroy(&B.P[b]));
-  PetscCall(PetscFree(B.P));
-  PetscCall(PetscFree(B.box));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

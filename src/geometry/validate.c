@@ -208,10 +208,11 @@ static PetscBool BwConvex(PetscInt n, const PetscReal p[])
   return PETSC_TRUE;
 }
 
-/* area(A n B), coordinates shifted to A's first vertex for their digits. */
-static PetscErrorCode BwIntersectionArea(BwGeometry g, PetscInt A, PetscInt B, const PetscBool convex[], BwClipWork *w, PetscReal *area)
+/* area(A n B) of blocks A, B of view v, coordinates shifted to A's first
+ * vertex for their digits. */
+static PetscErrorCode BwIntersectionArea(const BwBlockView *v, PetscInt A, PetscInt B, const PetscBool convex[], BwClipWork *w, PetscReal *area)
 {
-  const PetscReal *o = g->vertices + 2 * g->offsets[A];
+  const PetscReal *o = v->x + 2 * v->offsets[A];
   PetscInt         s = A, c = B, ns, nc;
 
   PetscFunctionBeginUser;
@@ -219,14 +220,14 @@ static PetscErrorCode BwIntersectionArea(BwGeometry g, PetscInt A, PetscInt B, c
     s = B;
     c = A;
   }
-  ns = g->offsets[s + 1] - g->offsets[s];
-  nc = g->offsets[c + 1] - g->offsets[c];
+  ns = v->offsets[s + 1] - v->offsets[s];
+  nc = v->offsets[c + 1] - v->offsets[c];
   PetscCall(BwRealBufReserve(&w->s, 2 * ns));
   PetscCall(BwRealBufReserve(&w->c, 2 * nc));
   for (PetscInt k = 0; k < ns; k++)
-    for (int d = 0; d < 2; d++) w->s.a[2 * k + d] = g->vertices[2 * (g->offsets[s] + k) + d] - o[d];
+    for (int d = 0; d < 2; d++) w->s.a[2 * k + d] = v->x[2 * (v->offsets[s] + k) + d] - o[d];
   for (PetscInt k = 0; k < nc; k++)
-    for (int d = 0; d < 2; d++) w->c.a[2 * k + d] = g->vertices[2 * (g->offsets[c] + k) + d] - o[d];
+    for (int d = 0; d < 2; d++) w->c.a[2 * k + d] = v->x[2 * (v->offsets[c] + k) + d] - o[d];
   if (convex[c]) PetscCall(BwClipArea(w, ns, w->s.a, nc, w->c.a, area));
   else {
     *area = 0;
@@ -254,13 +255,9 @@ static PetscErrorCode BwClipWorkFree(BwClipWork *w)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-typedef struct {
-  const PetscReal *box; /* xmin, ymin, xmax, ymax per block */
-} BwBoxShapeCtx;
-
-static void BwBoxShape(void *ctx, PetscInt b, PetscReal P[2], PetscReal Q[2], PetscReal *rx, PetscReal *ry)
+void BwBoxShape(void *ctx, PetscInt b, PetscReal P[2], PetscReal Q[2], PetscReal *rx, PetscReal *ry)
 {
-  const PetscReal *x = ((BwBoxShapeCtx *)ctx)->box + 4 * b;
+  const PetscReal *x = (const PetscReal *)ctx + 4 * b;
   P[0]               = x[0];
   Q[0]               = x[2];
   P[1] = Q[1] = 0.5 * (x[1] + x[3]);
@@ -268,62 +265,78 @@ static void BwBoxShape(void *ctx, PetscInt b, PetscReal P[2], PetscReal Q[2], Pe
   *ry         = 0.5 * (x[3] - x[1]);
 }
 
-PetscErrorCode BwValidateOverlaps(const char file[], BwGeometry g, const BwTolerance *tol)
+PetscErrorCode BwBlockBoxes(const BwBlockView *v, PetscReal box[], PetscReal perimeter[], PetscBool convex[])
 {
-  PetscInt      nb = g->nblocks;
-  PetscReal    *box, *perimeter, d = tol->delta;
-  PetscBool    *convex;
-  BwGrid        grid;
-  BwBoxShapeCtx ctx;
-  BwClipWork    w;
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < v->n; b++) {
+    const PetscReal *x = v->x + 2 * v->offsets[b];
+    PetscInt         n = v->offsets[b + 1] - v->offsets[b];
+    box[4 * b] = box[4 * b + 2] = x[0];
+    box[4 * b + 1] = box[4 * b + 3] = x[1];
+    if (perimeter) perimeter[b] = 0;
+    for (PetscInt k = 0; k < n; k++) {
+      PetscInt k1    = (k + 1) % n;
+      box[4 * b]     = PetscMin(box[4 * b], x[2 * k]);
+      box[4 * b + 1] = PetscMin(box[4 * b + 1], x[2 * k + 1]);
+      box[4 * b + 2] = PetscMax(box[4 * b + 2], x[2 * k]);
+      box[4 * b + 3] = PetscMax(box[4 * b + 3], x[2 * k + 1]);
+      if (perimeter) perimeter[b] += PetscSqrtReal(PetscSqr(x[2 * k1] - x[2 * k]) + PetscSqr(x[2 * k1 + 1] - x[2 * k + 1]));
+    }
+    if (convex) convex[b] = BwConvex(n, x);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwGridCheckSpan(MPI_Comm comm, PetscInt n, BwGridShape shape, void *ctx, PetscReal h)
+{
+  PetscReal lo[2] = {PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[2] = {PETSC_MIN_REAL, PETSC_MIN_REAL}, glo[2], ghi[2];
+
+  PetscFunctionBeginUser;
+  /* BwGridCreate's bounds of the items */
+  for (PetscInt b = 0; b < n; b++) {
+    PetscReal P[2], Q[2], rx, ry;
+    shape(ctx, b, P, Q, &rx, &ry);
+    lo[0] = PetscMin(lo[0], PetscMin(P[0], Q[0]) - rx);
+    hi[0] = PetscMax(hi[0], PetscMax(P[0], Q[0]) + rx);
+    lo[1] = PetscMin(lo[1], PetscMin(P[1], Q[1]) - ry);
+    hi[1] = PetscMax(hi[1], PetscMax(P[1], Q[1]) + ry);
+  }
+  PetscCallMPI(MPIU_Allreduce(lo, glo, 2, MPIU_REAL, MPIU_MIN, comm));
+  PetscCallMPI(MPIU_Allreduce(hi, ghi, 2, MPIU_REAL, MPIU_MAX, comm));
+  PetscCheck(h > 0 && (ghi[0] - glo[0]) / h < 1e15 && (ghi[1] - glo[1]) / h < 1e15, comm, PETSC_ERR_USER_INPUT,
+             "the blocks span %g m x %g m, %g times their typical edge of %g m: too wide a range of sizes to find neighbours", (double)(ghi[0] - glo[0]), (double)(ghi[1] - glo[1]), (double)(PetscMax(ghi[0] - glo[0], ghi[1] - glo[1]) / h), (double)h);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwValidateOverlaps(const char file[], const BwBlockView *v, PetscInt B, const BwTolerance *tol, PetscReal h, BwDecide decide, void *dctx, int64_t stage, BwFault *fault)
+{
+  PetscInt   nb = v->n;
+  PetscReal *box, *perimeter, d = tol->delta;
+  PetscBool *convex;
+  BwGrid     grid;
+  BwClipWork w;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&w, sizeof(w)));
-  PetscCall(PetscMalloc3(4 * nb, &box, nb, &perimeter, nb, &convex));
-  for (PetscInt b = 0; b < nb; b++) {
-    const PetscReal *v = g->vertices + 2 * g->offsets[b];
-    PetscInt         n = g->offsets[b + 1] - g->offsets[b];
-    box[4 * b] = box[4 * b + 2] = v[0];
-    box[4 * b + 1] = box[4 * b + 3] = v[1];
-    perimeter[b]                    = 0;
-    for (PetscInt k = 0; k < n; k++) {
-      PetscInt k1    = (k + 1) % n;
-      box[4 * b]     = PetscMin(box[4 * b], v[2 * k]);
-      box[4 * b + 1] = PetscMin(box[4 * b + 1], v[2 * k + 1]);
-      box[4 * b + 2] = PetscMax(box[4 * b + 2], v[2 * k]);
-      box[4 * b + 3] = PetscMax(box[4 * b + 3], v[2 * k + 1]);
-      perimeter[b] += PetscSqrtReal(PetscSqr(v[2 * k1] - v[2 * k]) + PetscSqr(v[2 * k1 + 1] - v[2 * k + 1]));
-    }
-    convex[b] = BwConvex(n, v);
-  }
-  ctx.box = box;
-  {
-    /* Cells of the median block size: a box covers (its size / h)^2 cells,
-     * so cells of the median edge length made a block with 1e5 short edges
-     * cover 1e10 of them. */
-    PetscReal *ext, h;
-    PetscCall(PetscMalloc1(nb, &ext));
-    for (PetscInt b = 0; b < nb; b++) ext[b] = PetscMax(box[4 * b + 2] - box[4 * b], box[4 * b + 3] - box[4 * b + 1]);
-    PetscCall(PetscSortReal(nb, ext));
-    h = nb ? ext[nb / 2] : 1;
-    PetscCall(PetscFree(ext));
-    PetscCall(BwGridCreate(nb, BwBoxShape, &ctx, NULL, PetscMax(h, d), &grid));
-  }
+  PetscCall(PetscMalloc3(4 * nb + 1, &box, nb + 1, &perimeter, nb + 1, &convex));
+  PetscCall(BwBlockBoxes(v, box, perimeter, convex));
+  PetscCall(BwGridCreate(nb, BwBoxShape, box, NULL, h, &grid));
   for (PetscInt a = 0; a < nb; a++) {
     PetscCall(BwGridCandidates(&grid, a));
     for (PetscInt c = 0; c < grid.cand.n; c++) {
-      PetscInt   b = grid.cand.a[c];
-      PetscReal  area, allowed;
+      PetscInt  b = grid.cand.a[c];
+      PetscReal area, allowed;
       if (PetscMin(box[4 * a + 2], box[4 * b + 2]) - PetscMax(box[4 * a], box[4 * b]) <= d) continue;
       if (PetscMin(box[4 * a + 3], box[4 * b + 3]) - PetscMax(box[4 * a + 1], box[4 * b + 1]) <= d) continue;
-      PetscCall(BwIntersectionArea(g, a, b, convex, &w, &area));
+      if (decide && !decide(dctx, a, b)) continue;
+      PetscCall(BwIntersectionArea(v, a, b, convex, &w, &area));
       allowed = d * PetscMin(perimeter[a], perimeter[b]);
       if (area > allowed) {
-        PetscInt small = g->area[a] <= g->area[b] ? a : b;
-        PetscCall(BwGridDestroy(&grid));
-        PetscCall(PetscFree3(box, perimeter, convex));
-        PetscCall(BwClipWorkFree(&w));
-        SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %.4g m^2, %.3g%% of block %" PetscInt_FMT, file, a, b, (double)area, (double)(100 * area / g->area[small]), small);
+        /* the view is in id order: the first pair found here is this rank's first */
+        PetscInt small = v->area[a] <= v->area[b] ? a : b;
+        BwFaultSet(fault, stage, (int64_t)v->gid[a] * B + v->gid[b], PETSC_ERR_USER_INPUT, "%s: /blocks/vertices: blocks %" PetscInt_FMT " and %" PetscInt_FMT " overlap: their interiors share %.4g m^2, %.3g%% of block %" PetscInt_FMT, file, v->gid[a], v->gid[b], (double)area, (double)(100 * area / v->area[small]), v->gid[small]);
+        a = nb;
+        break;
       }
     }
   }
@@ -335,31 +348,41 @@ PetscErrorCode BwValidateOverlaps(const char file[], BwGeometry g, const BwToler
 
 /* ------------------------------------------------------------ connection */
 
-PetscErrorCode BwValidateConnected(const char file[], BwGeometry g, PetscBool detected, const BwTolerance *tol)
+PetscErrorCode BwValidateConnected(const char file[], MPI_Comm comm, PetscInt B, PetscInt start, PetscInt nb, const PetscInt count[], PetscBool detected, const BwTolerance *tol)
 {
-  PetscInt *count, nfree = 0;
-  char      list[256] = "", hint[512] = "";
+  PetscInt    first[13], nfree = 0, total, *all;
+  PetscMPIInt size;
+  char        list[256] = "", hint[512] = "";
 
   PetscFunctionBeginUser;
-  if (g->nblocks < 2) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PetscCalloc1(g->nblocks, &count));
-  for (PetscInt k = 0; k < g->ninterfaces; k++) {
-    count[g->pair[2 * k]]++;
-    count[g->pair[2 * k + 1]]++;
-  }
-  for (PetscInt b = 0; b < g->nblocks; b++) {
+  if (B < 2) PetscFunctionReturn(PETSC_SUCCESS);
+  /* each rank's first 13 unconnected blocks, gathered: the ranges ascend
+   * with the rank, so the first 13 of all are among them */
+  for (PetscInt b = 0; b < nb; b++) {
     if (count[b]) continue;
+    if (nfree < 13) first[nfree] = start + b;
+    nfree++;
+  }
+  for (PetscInt k = nfree; k < 13; k++) first[k] = -1;
+  PetscCallMPI(MPIU_Allreduce(&nfree, &total, 1, MPIU_INT, MPI_SUM, comm));
+  if (!total) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscMalloc1(13 * (size_t)size, &all));
+  PetscCallMPI(MPI_Allgather(first, 13, MPIU_INT, all, 13, MPIU_INT, comm));
+  nfree = 0;
+  for (PetscInt k = 0; k < 13 * (PetscInt)size; k++) {
+    if (all[k] < 0) continue;
     if (nfree < 12) {
       char item[32];
-      PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, nfree ? ", " : "", b));
+      PetscCall(PetscSNPrintf(item, sizeof(item), "%s%" PetscInt_FMT, nfree ? ", " : "", all[k]));
       PetscCall(PetscStrlcat(list, item, sizeof(list)));
     } else if (nfree == 12) PetscCall(PetscStrlcat(list, ", ...", sizeof(list)));
     nfree++;
   }
-  PetscCall(PetscFree(count));
-  if (!nfree) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscFree(all));
+  nfree = total;
   if (detected)
     PetscCall(PetscSNPrintf(hint, sizeof(hint), "; interfaces were detected (no /interfaces/blocks): an edge must face another block's edge, anti-parallel within %g deg, at most e + tolerance = %g m from it, and overlap it by more than %g m", (double)(BW_FACING_ANGLE * 180 / PETSC_PI), (double)tol->gapmax, (double)tol->delta));
   else PetscCall(PetscSNPrintf(hint, sizeof(hint), "; /interfaces/blocks names no pair with %s", nfree > 1 ? "them" : "it"));
-  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s: /blocks: block%s %s (%" PetscInt_FMT " block%s) %s unconnected: no interface joins %s to any other block%s", file, nfree > 1 ? "s" : "", list, nfree, nfree > 1 ? "s" : "", nfree > 1 ? "are" : "is", nfree > 1 ? "them" : "it", hint);
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s: /blocks: block%s %s (%" PetscInt_FMT " block%s) %s unconnected: no interface joins %s to any other block%s", file, nfree > 1 ? "s" : "", list, nfree, nfree > 1 ? "s" : "", nfree > 1 ? "are" : "is", nfree > 1 ? "them" : "it", hint);
 }

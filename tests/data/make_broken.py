@@ -115,6 +115,133 @@ CASES = {
 }
 
 
+# Files with two or more defects, far apart in the file: read on several
+# ranks each defect is found by another rank (blocks, rows and set members
+# are read in ranges, pairs are decided by the ranks of their regions), and
+# the line must name the one the serial reader finds first, which is not
+# always the lowest block: offsets before the last offset, pair indices of
+# every row before any kn, kn before kt, the sets in name order (a set's
+# members in range before its repeats), 2D listed pairs by (i, j), 3D
+# listed pairs by row.
+def column(n, x0=0.0):
+    """n blocks L x A stacked with joints E: block k at level k."""
+    return [[[x0, k * (A + E)], [x0 + L, k * (A + E)], [x0 + L, k * (A + E) + A], [x0, k * (A + E) + A]] for k in range(n)]
+
+
+def columns2(levels):
+    """Two columns side by side (joint E between them): block 2 m + c at level m, column c."""
+    return [[[c * (L + E), m * (A + E)], [c * (L + E) + L, m * (A + E)], [c * (L + E) + L, m * (A + E) + A], [c * (L + E), m * (A + E) + A]]
+            for m in range(levels) for c in range(2)]
+
+
+def box3(x0, y0, z0, x1, y1, z1):
+    return [[x, y, z] for z in (z0, z1) for y in (y0, y1) for x in (x0, x1)]
+
+
+def column3(n):
+    """n boxes L x A x L stacked along X2 with joints E."""
+    return [box3(0, k * (A + E), 0, L, k * (A + E) + A, L) for k in range(n)]
+
+
+def moved(blocks, k, dy):
+    return [[[x, y + dy] for x, y in b] if i == k else b for i, b in enumerate(blocks)]
+
+
+def with_block(blocks, k, block):
+    return [block if i == k else b for i, b in enumerate(blocks)]
+
+
+def offsets_twice():
+    d = base(column(6), sets={"bottom": [0]})
+    o = d["blocks/offsets"].copy()
+    o[2], o[6] = 3, 23  # decreasing at block 1 (rank 0 of 3), the last wrong (rank 2)
+    d["blocks/offsets"] = o
+    return d
+
+
+def vertex_nan_twice():
+    d = base(column(6), sets={"bottom": [0]})
+    d["blocks/vertices"][17] = [NAN, 0.0]  # block 4
+    d["blocks/vertices"][6] = [0.0, INF]  # block 1
+    return d
+
+
+UNIT_X = [[0, 0], [L, 0], [L, A], [0, A]]
+BOWTIE = [[0, 0], [L, A], [L, 0], [0, A]]
+ISOLATED = [2, 3, 4, 5, 6, 8, 9, 10, 11, 12, 13, 15, 16, 17]  # 14 blocks far apart, on every rank of 3
+CONNECTED = [0, 1, 7, 14, 18, 19]
+
+
+def unconnected_many():
+    blocks, level = [], 0
+    for b in range(20):
+        if b in CONNECTED:
+            blocks.append([[x, y + level * (A + E)] for x, y in UNIT_X])
+            level += 1
+        else:
+            blocks.append([[x + 1 + b, y] for x, y in UNIT_X])
+    return base(blocks, sets={"bottom": [0]})
+
+
+def pairs_and_kn():
+    d = base(column(6), pairs=[[0, 1], [1, 2], [2, 3], [3, 4], [4, 5], [2, 9]], sets={"bottom": [0]})
+    d["interfaces/kn"] = np.array([-1.0, 1e11, 1e11, 1e11, 1e11, 1e11])  # row 0: read by rank 0; the index fault of row 5 comes first
+    return d
+
+
+def kn_before_kt():
+    d = base(column(6), pairs=[[0, 1], [1, 2], [2, 3], [3, 4], [4, 5]], sets={"bottom": [0]})
+    d["interfaces/kn"] = np.array([1e11, 1e11, 1e11, 1e11, 0.0])
+    d["interfaces/kt"] = np.array([1e11, -5.0, 1e11, 1e11, 1e11])
+    return d
+
+
+# two columns: listed vertical and horizontal neighbours, and two pairs
+# that do not face: (1, 7) far apart (row 0), (0, 3) diagonal neighbours
+# (last row): the serial reader takes 2D pairs in (i, j) order
+NEIGHBOURS2 = [[2 * m + c, 2 * m + c + 2] for m in range(3) for c in range(2)] + [[2 * m, 2 * m + 1] for m in range(4)]
+
+
+def blocks3(blocks, pairs=None, sets=None):
+    d = {"blocks/vertices": np.array([v for b in blocks for v in b], float),
+         "blocks/offsets": np.concatenate([[0], np.cumsum([len(b) for b in blocks])]).astype(np.int64)}
+    if pairs is not None:
+        d["interfaces/blocks"] = np.array(pairs, np.int64).reshape(-1, 2)
+    for name, members in (sets or {"bottom": [0]}).items():
+        d[f"sets/{name}"] = np.array(members, np.int64)
+    return d
+
+
+def planar3(k):
+    b = box3(0, k * (A + E), 0, L, k * (A + E) + A, L)
+    return [b[0], b[1], b[2], b[3]]  # the bottom face only
+
+
+CASES.update({
+    "offsets_twice": (offsets_twice(), {}, ["/blocks/offsets is not increasing", "offsets[2] = 3 < offsets[1] = 4", "block 1"]),
+    "vertex_nan_twice": (vertex_nan_twice(), {}, ["/blocks/vertices", "block 1: vertex row 6 is not finite"]),
+    "polygons_twice": (base(with_block(with_block(column(6), 4, [[0, 0.5], [0.1, 0.5], [0.2, 0.5]]), 1, [[0, 0.11], [L, 0.21], [L, 0.11], [0, 0.21]]),
+                            sets={"bottom": [0]}), {}, ["/blocks/vertices", "block 1 is self-intersecting"]),
+    "overlap_twice": (base(moved(moved(column(8), 6, 0.05), 2, 0.05), sets={"bottom": [0]}), {}, ["/blocks/vertices", "blocks 2 and 3 overlap"]),
+    "pairs_before_kn": (pairs_and_kn(), {}, ["/interfaces/blocks", "interface 5 names block 9, out of range [0, 6)"]),
+    "kn_before_kt": (kn_before_kt(), {}, ["/interfaces/kn", "interface 4 (blocks 4, 5) has kn = 0"]),
+    "sets_range_first": (base(column(6), sets={"a": [0, 7], "b": [1, 1]}), {}, ["/sets/a: member 1 is block 7, out of range [0, 6)"]),
+    "sets_repeat_first": (base(column(6), sets={"a": [2, 3, 2], "b": [9]}), {}, ["/sets/a lists block 2 more than once"]),
+    "not_facing_twice": (base(columns2(4), pairs=[[1, 7]] + NEIGHBOURS2 + [[0, 3]], sets={"bottom": [0, 1]}), {},
+                         ["/interfaces/blocks", "interface 11 joins blocks 0 and 3, which have no facing edges"]),
+    "unconnected_many": (unconnected_many(), {}, ["/blocks", "blocks 2, 3, 4, 5, 6, 8, 9, 10, 11, 12, 13, 15, ... (14 blocks) are unconnected"]),
+    "hulls_twice_3d": (blocks3(with_block(with_block(column3(6), 4, planar3(4)), 1, column3(6)[1][:3])), {},
+                       ["/blocks/vertices", "block 1 has 3 vertices", "at least 4"]),
+    "overlap_twice_3d": (blocks3([[[x, y + (0.05 if k in (2, 6) else 0), z] for x, y, z in b] for k, b in enumerate(column3(8))]), {},
+                         ["/blocks/vertices", "blocks 2 and 3 overlap", "m^3"]),
+    # rows by the serial order: row 5 repeats the pair (4, 5) of row 2 (its
+    # first block on the last rank of 3), row 6 joins blocks 0 and 2, which
+    # do not face (on rank 0)
+    "listed_rows_3d": (blocks3(column3(6), pairs=[[0, 1], [1, 2], [4, 5], [2, 3], [3, 4], [4, 5], [0, 2]]), {},
+                       ["/interfaces/blocks", "interface 5 repeats the pair (4, 5) of interface 2"]),
+})
+
+
 def write(path, datasets, attrs):
     if isinstance(datasets, str):
         with open(path, "w") as f:

@@ -3,8 +3,8 @@ blockwall exits non-zero with one line on stderr that names the file and
 says what is wrong where (make_broken.CASES), and no output file is created
 or changed (as tests/errors/check_errors.py).
 
-  check_broken.py CASE [RANKS]   one corpus file (on RANKS ranks: rank 0
-                                 reads, the error reaches every rank)
+  check_broken.py CASE [RANKS]   one corpus file (on RANKS ranks: each
+                                 reads a part, the error reaches every rank)
   check_broken.py missing_file   geometry.file names no file
   check_broken.py current        the committed files are what make_broken.py
                                  writes, and every file has a case

@@ -2,7 +2,7 @@
  * assembly or solve, so that detection can be checked and timed on 1e5-1e6
  * blocks, where a solve would dominate.
  *
- *   test_geometry -scene SCENE.yaml [-dump OUT.h5] [scene options]
+ *   test_geometry -scene SCENE.yaml [-dump OUT.h5] [-distribute] [scene options]
  *
  * prints "blocks B interfaces I seconds T cpu C" (T: wall time of
  * BwGeometrySetFromOptions, i.e. read, check, detect, broadcast; C: the CPU
@@ -10,6 +10,9 @@
  * with -dump, writes from rank 0
  *   /blocks/vertices, /blocks/offsets, /blocks/centroid, /blocks/area
  *   /interfaces/blocks, center, angle, length, kind
+ * (rank 0's D0 share: the whole geometry on one rank). -distribute: then
+ * BwGeometryDistribute, each rank its local piece (the memory a rank
+ * needs for the geometry, measured from outside by the tests).
  * Errors: one line on stderr, exit 1 (user input) or 2, as blockwall. */
 #include <stdint.h>
 #include <stdio.h>
@@ -76,7 +79,7 @@ static double BwCPUTime(void)
 static PetscErrorCode BwTestMain(MPI_Comm comm, BwScene *scene, BwGeometry *geom)
 {
   char           path[PETSC_MAX_PATH_LEN] = "", dump[PETSC_MAX_PATH_LEN] = "";
-  PetscBool      has_dump;
+  PetscBool      has_dump, distribute = PETSC_FALSE;
   BwJointLaw     bed = NULL;
   PetscLogDouble t0, t1;
   double         c0, c1;
@@ -85,6 +88,7 @@ static PetscErrorCode BwTestMain(MPI_Comm comm, BwScene *scene, BwGeometry *geom
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", path, sizeof(path), NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-dump", dump, sizeof(dump), &has_dump));
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-distribute", &distribute, NULL));
   PetscCall(BwSceneCreate(comm, scene));
   PetscCall(BwSceneLoad(*scene, path));
   PetscCall(BwJointLawCreate(&bed));
@@ -95,6 +99,7 @@ static PetscErrorCode BwTestMain(MPI_Comm comm, BwScene *scene, BwGeometry *geom
   c0 = BwCPUTime();
   PetscCall(BwGeometrySetUp(*geom, *scene, bed->thickness));
   PetscCall(BwJointLawDestroy(&bed));
+  if (distribute) PetscCall(BwGeometryDistribute(*geom, (BwPartitionMethod)(*geom)->partition));
   c1 = BwCPUTime();
   PetscCall(PetscTime(&t1));
   PetscCall(PetscPrintf(comm, "blocks %" PetscInt_FMT " interfaces %" PetscInt_FMT " seconds %.6f cpu %.6f\n", (*geom)->nblocks, (*geom)->ninterfaces, t1 - t0, c1 - c0));
