@@ -48,15 +48,16 @@ def run(exe, n, ranks, cand, load, depth, extra):
         cmd = [exe, "-scene", SCENE, "-geometry_running_bond_courses", str(n), "-geometry_running_bond_units_per_course", str(n),
                "-geometry_depth", str(depth), "-output_stresses", "false", "-output_file", out, "-schur_ksp_converged_reason",
                *CANDIDATES.get(cand, []), *LOADS[load], *extra]
-        timed = ["/usr/bin/time", "-f", "MAXRSS %M", *cmd]
+        timed = ["/usr/bin/time", "-f", "MAXRSS %M CPU %U %S", *cmd]
         if ranks > 1:
             timed = ["mpiexec", "--oversubscribe", "-n", str(ranks), *timed]
         t0 = time.perf_counter()
         p = subprocess.run(timed, capture_output=True, text=True, env=ENV)
         wall = time.perf_counter() - t0
         rss = [int(k) * 1024 for k in re.findall(r"MAXRSS (\d+)", p.stderr)]
+        cpu = sum(float(u) + float(s) for u, s in re.findall(r"CPU ([\d.]+) ([\d.]+)", p.stderr))
         inner = [int(m.group(2)) for m in re.finditer(r"Linear schur_ solve (converged|diverged) due to \S+ iterations (\d+)", p.stdout)]
-        row = dict(n=n, ranks=ranks, cand=cand, load=load, depth=depth, rc=p.returncode, rss=sum(rss), inner=inner, wall=wall)
+        row = dict(n=n, ranks=ranks, cand=cand, load=load, depth=depth, rc=p.returncode, rss=sum(rss), inner=inner, wall=wall, cpu=cpu)
         if len(rss) != ranks:
             row["rc"], row["error"] = row["rc"] or -1, f"{len(rss)} of {ranks} ranks measured"
         if p.returncode == 0:
@@ -77,12 +78,13 @@ def fmt(r, extra):
         return f"| {r['n']}x{r['n']} | ? | {r['ranks']} | {r['cand']} {' '.join(extra)} | {r['load']} | {r['depth']} | failed: {r['error']} |||||"
     its = "/".join(map(str, r["inner"])) or "-"
     return (f"| {r['n']}x{r['n']} | {r['blocks']} | {r['ranks']} | {r['cand']} {' '.join(extra)} | {r['load']} | {r['depth']} | "
-            f"{r['steps']} | {its} | {r['rss'] / r['blocks'] / 1024:.1f} | {r['acc']} | {r['res']:.1e} | {r['schur']}{' (fallback)' if r['fallback'] else ''} | ~{r['wall']:.0f} |")
+            f"{r['steps']} | {its} | {r['rss'] / r['blocks'] / 1024:.1f} | {r['acc']} | {r['res']:.1e} | {r['schur']}{' (fallback)' if r['fallback'] else ''} | ~{r['cpu']:.0f} |")
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "bin", "blockwall"))
+    ap.add_argument("--label", default="", help="prefix of the candidate's name in the rows (e.g. the build)")
     ap.add_argument("--sizes", default="100")
     ap.add_argument("--ranks", default="1")
     ap.add_argument("--candidates", default="gamg")
@@ -97,7 +99,9 @@ def main():
             for cand in a.candidates.split(","):
                 for load in a.loads.split(","):
                     for depth in map(float, a.depths.split(",")):
-                        line = fmt(run(a.exe, n, ranks, cand, load, depth, extra), extra)
+                        r = run(a.exe, n, ranks, cand, load, depth, extra)
+                        r["cand"] = a.label + cand
+                        line = fmt(r, extra)
                         print(line, flush=True)
                         if a.out:
                             with open(a.out, "a") as f:

@@ -54,3 +54,10 @@ foreach(case block u_wall)
 endforeach()
 # tools/plot on a 3D pushover: capacity curve and crack pattern (matplotlib).
 bw_py_test(dim3.plot_cracks "dim3;post;nonlinear" dim3/check_cracks3d.py)
+# The iterative 3D Schur solve (CG + GAMG, the top beam eliminated) against
+# S^ factored, in and out of the wall's plane, on 1 and 2 ranks.
+foreach(load in out)
+  bw_py_test(dim3.schur_iterative_${load} "dim3;solver" dim3/check_schur3d.py ${load} 1)
+  bw_py_test(dim3.schur_iterative_${load}_2ranks "dim3;solver;mpi" dim3/check_schur3d.py ${load} 2)
+  set_tests_properties(dim3.schur_iterative_${load} dim3.schur_iterative_${load}_2ranks PROPERTIES TIMEOUT 120)
+endforeach()
