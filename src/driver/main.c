@@ -182,6 +182,16 @@ int main(int argc, char **argv)
     fprintf(stderr, "blockwall: error: cannot install a signal handler\n");
     return 3;
   }
+  /* MPI first, with blockwall's handlers on (a signal during a slow start
+   * is reported), then PETSc with the signals held (signals.h) */
+  {
+    int provided;
+    if (MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
+      fprintf(stderr, "blockwall: error: MPI_Init failed\n");
+      return 3;
+    }
+  }
+  BwSignalsHold();
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   PetscCall(PetscMemzero(&run, sizeof(run)));
   /* Errors are reported once, as one line, by this driver: no PETSc
@@ -217,5 +227,6 @@ int main(int argc, char **argv)
   }
   PetscPopErrorHandler();
   if (PetscFinalize()) code = code ? code : 3;
+  if (MPI_Finalize() != MPI_SUCCESS) code = code ? code : 3; /* MPI_Init was blockwall's, not PETSc's */
   return code;
 }

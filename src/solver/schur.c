@@ -193,15 +193,12 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
     PetscCall(KSPSetTolerances(ctx->inner, 1e-5, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   } else {
     PetscCall(KSPSetType(ctx->inner, s->symmetric ? KSPCG : KSPGMRES));
-    PetscCall(PCSetType(ipc, PCGAMG));
-    /* values refilled with the same pattern keep the aggregates and the
-     * interpolation: a new step re-smooths, it does not re-coarsen */
-    PetscCall(PCGAMGSetReuseInterpolation(ipc, PETSC_TRUE));
+    /* GAMG, and in 3D the long blocks eliminated (amg.c) */
+    PetscCall(BwSchurAMGSetUp(s, ctx->inner));
     /* 1e-5: three outer steps meet rtol 1e-10 and the forward estimate
      * (9 + 17 + 16 CG iterations at 1e5 blocks); 1e-4 needed four
      * (6 + 14 + 14 + 14), 1e-6 three with more iterations (12 + 20 + 18) */
     PetscCall(KSPSetTolerances(ctx->inner, 1e-5, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
-    PetscCall(BwMixedSetNearNullSpace(s->mx));
   }
   PetscCall(KSPSetFromOptions(ctx->inner));
   PetscCall(BwSolverFactorDefaults(ipc));

@@ -64,6 +64,11 @@ PetscErrorCode BwSchurPCGetInner(KSP outer, KSP *inner);
 PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, BwFactorKind kind, Mat A);
 PetscErrorCode BwSolverFactorDefaults(PC pc);
 
+/* amg.c: the preconditioner of an iterative Schur solve on inner (its
+ * KSP type set): GAMG with the near-null space of S^, and in 3D the blocks
+ * with very many neighbours eliminated exactly. */
+PetscErrorCode BwSchurAMGSetUp(BwSolver s, KSP inner);
+
 /* estimates.c */
 PetscErrorCode BwSolverForwardSetUp(BwSolver s);
 PetscErrorCode BwSolverSetConvergenceTest(BwSolver s, KSP ksp);

@@ -576,50 +576,147 @@ PetscErrorCode BwMixedInterfaceSlots(BwMixed mx, PetscInt slot[])
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The plane of the assembly: x0 the mean of the block centroids, e[0..2]
+ * the principal axes of their spread, largest first (e[2] the normal of a
+ * wall, the direction it is thin across). Sums over owned blocks, reduced. */
+static PetscErrorCode BwMixedPrincipalAxes(BwMixed mx, PetscReal x0[3], PetscReal e[9])
+{
+  const PetscInt   d = mx->dim;
+  const PetscReal *c = mx->geom->centroid;
+  PetscReal        loc[10] = {0}, all[10], cov[9];
+
+  PetscFunctionBeginUser;
+  for (PetscInt e0 = 0; e0 < mx->nown_blocks; e0++) {
+    PetscInt b = mx->own_blocks[e0];
+    loc[9] += 1;
+    for (PetscInt a = 0; a < d; a++) loc[a] += c[d * b + a];
+  }
+  PetscCallMPI(MPIU_Allreduce(loc, all, 10, MPIU_REAL, MPIU_SUM, mx->comm));
+  for (PetscInt a = 0; a < 3; a++) x0[a] = a < d && all[9] > 0 ? all[a] / all[9] : 0;
+  for (PetscInt a = 0; a < 9; a++) loc[a] = 0;
+  for (PetscInt e0 = 0; e0 < mx->nown_blocks; e0++) {
+    PetscInt b = mx->own_blocks[e0];
+    for (PetscInt a = 0; a < d; a++)
+      for (PetscInt f = 0; f < d; f++) loc[3 * a + f] += (c[d * b + a] - x0[a]) * (c[d * b + f] - x0[f]);
+  }
+  PetscCallMPI(MPIU_Allreduce(loc, cov, 9, MPIU_REAL, MPIU_SUM, mx->comm));
+  /* cyclic Jacobi rotations on the 3x3 covariance (converges in a few sweeps) */
+  {
+    PetscReal V[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, ev[3];
+    PetscInt  order[3] = {0, 1, 2};
+    for (PetscInt sweep = 0; sweep < 50; sweep++) {
+      PetscReal off = PetscAbsReal(cov[1]) + PetscAbsReal(cov[2]) + PetscAbsReal(cov[5]);
+      if (off <= 1e-15 * (PetscAbsReal(cov[0]) + PetscAbsReal(cov[4]) + PetscAbsReal(cov[8])) || off == 0) break;
+      for (PetscInt p = 0; p < 2; p++)
+        for (PetscInt q = p + 1; q < 3; q++) {
+          PetscReal apq = cov[3 * p + q], th, t, cs, sn;
+          if (apq == 0) continue;
+          th = (cov[3 * q + q] - cov[3 * p + p]) / (2 * apq);
+          t  = (th >= 0 ? 1 : -1) / (PetscAbsReal(th) + PetscSqrtReal(th * th + 1));
+          cs = 1 / PetscSqrtReal(t * t + 1);
+          sn = t * cs;
+          for (PetscInt k = 0; k < 3; k++) { /* columns p, q */
+            PetscReal akp = cov[3 * k + p], akq = cov[3 * k + q];
+            cov[3 * k + p] = cs * akp - sn * akq;
+            cov[3 * k + q] = sn * akp + cs * akq;
+          }
+          for (PetscInt k = 0; k < 3; k++) { /* rows p, q */
+            PetscReal apk = cov[3 * p + k], aqk = cov[3 * q + k];
+            cov[3 * p + k] = cs * apk - sn * aqk;
+            cov[3 * q + k] = sn * apk + cs * aqk;
+          }
+          for (PetscInt k = 0; k < 3; k++) {
+            PetscReal vkp = V[3 * k + p], vkq = V[3 * k + q];
+            V[3 * k + p] = cs * vkp - sn * vkq;
+            V[3 * k + q] = sn * vkp + cs * vkq;
+          }
+        }
+    }
+    for (PetscInt a = 0; a < 3; a++) ev[a] = cov[4 * a];
+    /* largest spread first */
+    for (PetscInt a = 0; a < 3; a++)
+      for (PetscInt f = a + 1; f < 3; f++)
+        if (ev[order[f]] > ev[order[a]]) {
+          PetscInt t = order[a];
+          order[a] = order[f];
+          order[f] = t;
+        }
+    for (PetscInt a = 0; a < 3; a++)
+      for (PetscInt f = 0; f < 3; f++) e[3 * a + f] = V[3 * f + order[a]];
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Bending mode k (0: s^2/2, 1: t^2/2, 2: s t) of a plate with in-plane
+ * axes e[0], e[1] and normal e[2] through x0, at block b: the deflection f
+ * along the normal, the mid-plane's slope as the rotation (w = grad f x n)
+ * and the in-plane part -z grad f of the sections that stay normal: zero
+ * strain but the curvature, the way a thin plate bends. */
+static void BwMixedBendingMode(BwMixed mx, PetscInt k, PetscInt b, const PetscReal x0[], const PetscReal e[], PetscReal u[])
+{
+  const PetscReal *c = &mx->geom->centroid[3 * b];
+  PetscReal        arm[3] = {c[0] - x0[0], c[1] - x0[1], c[2] - x0[2]}, st[3], f, g[3];
+
+  for (PetscInt a = 0; a < 3; a++) st[a] = arm[0] * e[3 * a] + arm[1] * e[3 * a + 1] + arm[2] * e[3 * a + 2];
+  {
+    const PetscReal s = st[0], t = st[1];
+    const PetscReal fs = k == 0 ? s : k == 1 ? 0 : t, ft = k == 0 ? 0 : k == 1 ? t : s;
+    f = k == 0 ? s * s / 2 : k == 1 ? t * t / 2 : s * t;
+    for (PetscInt a = 0; a < 3; a++) g[a] = fs * e[a] + ft * e[3 + a];
+  }
+  {
+    const PetscReal *n = &e[6];
+    for (PetscInt a = 0; a < 3; a++) u[a] = f * n[a] - st[2] * g[a];
+    u[3] = g[1] * n[2] - g[2] * n[1];
+    u[4] = g[2] * n[0] - g[0] * n[2];
+    u[5] = g[0] * n[1] - g[1] * n[0];
+  }
+}
+
 PetscErrorCode BwMixedSetNearNullSpace(BwMixed mx)
 {
   const PetscInt nrig = mx->nd; /* 3 rigid motions in 2D, 6 in 3D */
-  Vec            v[BW_MAX_ND] = {NULL};
+  PetscInt       nvec = nrig;
+  Vec            v[BW_MAX_ND + 3] = {NULL};
   MatNullSpace   nsp;
-  BwGeometry     geom = mx->geom;
-  PetscReal      x0[3] = {0, 0, 0};
-  PetscScalar   *a[BW_MAX_ND];
+  PetscReal      x0[3] = {0, 0, 0}, e[9] = {0};
+  PetscScalar   *a[BW_MAX_ND + 3];
 
   PetscFunctionBeginUser;
-  {
-    PetscReal sum[3] = {0, 0, 0};
-    for (PetscInt b = 0; b < geom->nown_blocks; b++)
-      for (PetscInt c = 0; c < geom->dim; c++) sum[c] += geom->centroid[geom->dim * b + c] / geom->nblocks_global;
-    PetscCallMPI(MPIU_Allreduce(sum, x0, 3, MPIU_REAL, MPIU_SUM, mx->comm));
-  }
-  for (PetscInt r = 0; r < nrig; r++) {
+  if (mx->dim == 3) nvec += 3;
+  PetscCall(BwMixedPrincipalAxes(mx, x0, e));
+  for (PetscInt r = 0; r < nvec; r++) {
     PetscCall(MatCreateVecs(mx->S, &v[r], NULL));
     PetscCall(VecGetArray(v[r], &a[r]));
   }
-  for (PetscInt e = 0; e < mx->nown_blocks; e++) {
-    PetscInt b = mx->own_blocks[e], row = mx->qrow[b] - mx->qstart, nd = mx->nd;
+  for (PetscInt e0 = 0; e0 < mx->nown_blocks; e0++) {
+    PetscInt b = mx->own_blocks[e0], row = mx->qrow[b] - mx->qstart, nd = mx->nd;
     if (mx->qrow[b] < 0) continue;
-    for (PetscInt r = 0; r < nrig; r++) {
+    for (PetscInt r = 0; r < nvec; r++) {
       PetscReal u[BW_MAX_ND];
-      BwMixedRigidMotion(mx, r, b, x0, u);
+      if (r < nrig) BwMixedRigidMotion(mx, r, b, x0, u);
+      else BwMixedBendingMode(mx, r - nrig, b, x0, e, u);
       /* q~ = diag(S)^{1/2} q; prescribed dofs do not move */
       for (PetscInt c = 0; c < nd; c++) a[r][row + c] = mx->model->prescribed[nd * b + c] ? 0 : u[c] / mx->qscale[nd * b + c];
     }
   }
-  for (PetscInt r = 0; r < nrig; r++) PetscCall(VecRestoreArray(v[r], &a[r]));
-  /* MatNullSpaceCreate wants orthonormal vectors */
+  for (PetscInt r = 0; r < nvec; r++) PetscCall(VecRestoreArray(v[r], &a[r]));
+  /* MatNullSpaceCreate wants orthonormal vectors: Gram-Schmidt twice (the
+   * bending modes are nearly parallel to the rigid ones on a long wall) */
   PetscCall(VecNormalize(v[0], NULL));
-  for (PetscInt r = 1; r < nrig; r++) {
-    PetscScalar dots[BW_MAX_ND];
-    PetscCall(VecMDot(v[r], r, v, dots));
-    for (PetscInt j = 0; j < r; j++) dots[j] = -dots[j];
-    PetscCall(VecMAXPY(v[r], r, dots, v));
+  for (PetscInt r = 1; r < nvec; r++) {
+    for (PetscInt pass = 0; pass < 2; pass++) {
+      PetscScalar dots[BW_MAX_ND + 3];
+      PetscCall(VecMDot(v[r], r, v, dots));
+      for (PetscInt j = 0; j < r; j++) dots[j] = -dots[j];
+      PetscCall(VecMAXPY(v[r], r, dots, v));
+    }
     PetscCall(VecNormalize(v[r], NULL));
   }
-  PetscCall(MatNullSpaceCreate(mx->comm, PETSC_FALSE, nrig, v, &nsp));
+  PetscCall(MatNullSpaceCreate(mx->comm, PETSC_FALSE, nvec, v, &nsp));
   PetscCall(MatSetNearNullSpace(mx->S, nsp));
   PetscCall(MatNullSpaceDestroy(&nsp));
-  for (PetscInt r = 0; r < nrig; r++) PetscCall(VecDestroy(&v[r]));
+  for (PetscInt r = 0; r < nvec; r++) PetscCall(VecDestroy(&v[r]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -79,7 +79,9 @@ PetscErrorCode BwMixedGetPrescribedMask(BwMixed mixed, Vec *mask);
 /* K as one AIJ matrix (new), for a direct factorisation. */
 PetscErrorCode BwMixedCreateAIJ(BwMixed mixed, Mat *aij);
 /* Rigid motions of the whole assembly in the scaled dofs (GAMG's near-null
- * space), attached to S^. */
+ * space), attached to S^; in 3D also the three constant-curvature bending
+ * modes of the plane the block centroids spread in (a wall bending as a
+ * plate). */
 PetscErrorCode BwMixedSetNearNullSpace(BwMixed mixed);
 /* Weight of each q row for the forward-error norm: the dof's scale (times
  * the assembly's size for rotations), 0 at prescribed dofs; and the largest

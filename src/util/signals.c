@@ -108,6 +108,10 @@ static int BwSignalsSetHandlers(void)
   return 0;
 }
 
+static void     BwSignalsBlock(sigset_t *old, PetscBool block);
+static sigset_t bw_before_hold; /* the mask before BwSignalsHold */
+static int      bw_held;
+
 /* The launcher's rank, before MPI can tell it (Open MPI, PMIx, PMI, Slurm). */
 static int BwLauncherRank(void)
 {
@@ -139,6 +143,13 @@ int BwSignalsInstallEarly(void)
   return 0;
 }
 
+void BwSignalsHold(void)
+{
+  if (bw_held) return;
+  BwSignalsBlock(&bw_before_hold, PETSC_TRUE);
+  bw_held = 1;
+}
+
 void BwSignalsFinishing(void) { bw_finishing = 1; }
 
 PetscErrorCode BwSignalsInstall(MPI_Comm comm)
@@ -149,6 +160,10 @@ PetscErrorCode BwSignalsInstall(MPI_Comm comm)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   bw_rank = rank;
   PetscCheck(BwSignalsSetHandlers() == 0, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install a signal handler: %s", strerror(errno));
+  if (bw_held) {
+    bw_held = 0;
+    BwSignalsBlock(&bw_before_hold, PETSC_FALSE);
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -15,8 +15,14 @@
  * during MPI's start-up is seen too; the rank that prints is the launcher's
  * until MPI runs. Returns non-zero when a handler cannot be installed. */
 int BwSignalsInstallEarly(void);
+/* Holds (blocks) the signals until BwSignalsInstall: around PetscInitialize,
+ * which installs PETSc's own handlers, so that a signal sent meanwhile waits
+ * for blockwall's handler instead of meeting PETSc's. Called after MPI_Init,
+ * which can take seconds on a busy machine: a launcher's SIGKILL follows its
+ * SIGTERM one second later, and a signal held that long is never handled. */
+void BwSignalsHold(void);
 /* Installs the handlers again after PetscInitialize (over PETSc's for these
- * signals); rank 0 of comm prints the line. */
+ * signals) and releases the held signals; rank 0 of comm prints the line. */
 PetscErrorCode BwSignalsInstall(MPI_Comm comm);
 /* The run has ended (its result written or its error known): a launcher's
  * SIGCONT is no longer an interruption to report. */

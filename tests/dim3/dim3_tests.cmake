@@ -65,3 +65,10 @@ if(BW_PVPYTHON AND BW_XVFB_RUN)
   set_property(TEST dim3.plot_cracks_pvpython APPEND PROPERTY ENVIRONMENT "BW_PVPYTHON=${BW_PVPYTHON};BW_XVFB_RUN=${BW_XVFB_RUN}")
   set_tests_properties(dim3.plot_cracks_pvpython PROPERTIES RESOURCE_LOCK xvfb TIMEOUT 900)
 endif()
+# The iterative 3D Schur solve (CG + GAMG, the top beam eliminated) against
+# S^ factored, in and out of the wall's plane, on 1 and 2 ranks.
+foreach(load in out)
+  bw_py_test(dim3.schur_iterative_${load} "dim3;solver" dim3/check_schur3d.py ${load} 1)
+  bw_py_test(dim3.schur_iterative_${load}_2ranks "dim3;solver;mpi" dim3/check_schur3d.py ${load} 2)
+  set_tests_properties(dim3.schur_iterative_${load} dim3.schur_iterative_${load}_2ranks PROPERTIES TIMEOUT 120)
+endforeach()
