@@ -113,6 +113,8 @@ PetscErrorCode BwProblemCheckOptions(BwProblem *p)
   PetscFunctionBeginUser;
   if (p->checked) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(BwSolverGetIdlePrefixes(p->solver, &n, idle));
+  /* one rank, or partition.method natural: no MatPartitioning read them */
+  if (!p->geom->partitioned) idle[n++] = "partition_";
   PetscCall(BwSceneCheckUnused(p->scene, BW_CHECK_FINAL, n, idle, 0, NULL));
   p->checked = PETSC_TRUE;
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -204,6 +204,7 @@ static PetscErrorCode BwPartitionD0(BwGeometry g, const PetscInt start[], BwPart
 #endif
     PetscCall(MatPartitioningSetFromOptions(part));
     PetscCall(MatPartitioningApply(part, &is));
+    g->partitioned = PETSC_TRUE;
     PetscCall(ISGetIndices(is, &where));
     for (PetscInt b = 0; b < nb; b++) owner[b] = (PetscMPIInt)where[b];
     PetscCall(ISRestoreIndices(is, &where));

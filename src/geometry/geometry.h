@@ -32,6 +32,7 @@ struct _n_BwGeometry {
   PetscReal  depth; /* s [m] */
   PetscBool  distributed; /* the local piece (BwGeometryDistribute) rather than the D0 share */
   PetscInt   partition;   /* partition.method: a BwPartitionMethod */
+  PetscBool  partitioned; /* a MatPartitioning ran (options -partition_ were read) */
   /* blocks: the D0 share, global ids block_start.. block_start + nblocks - 1;
    * or the local piece, the nown_blocks owned ones first, then the ghosts,
    * each part ascending in global id */

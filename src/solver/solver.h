@@ -76,7 +76,8 @@ PetscErrorCode BwSolverReport(BwSolver solver, BwReport report);
 PetscErrorCode BwSolverView(BwSolver solver, PetscViewer viewer);
 /* Option prefixes of the solvers' PETSc objects (checked after the solve,
  * since PETSc reads some only at set-up), and of the paths that did not run
- * (their options are legitimately unused). */
+ * (their options are legitimately unused); also -partition_, the options
+ * of the geometry's MatPartitioning (distribute.c). */
 PetscErrorCode BwSolverGetOptionPrefixes(PetscInt *n, const char *const **prefixes);
 PetscErrorCode BwSolverGetIdlePrefixes(BwSolver solver, PetscInt *n, const char *prefixes[8]);
 /* Frees the factors and work vectors (before recovery, to lower the peak). */

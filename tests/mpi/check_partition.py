@@ -9,7 +9,12 @@ in the summary and the file.
                         interfaces, an imbalance in [1, 1.3] (the issue's
                         bound for a rank's share), the summary's line equal
                         to the file's attributes, and the answer equal to 1
-                        rank's to 1e-10 (whatever the partition)."""
+                        rank's to 1e-10 (whatever the partition).
+  options SCENE         the partitioner's own options (-partition_, PETSc's
+                        MatPartitioning) are taken on 2 ranks and, unused,
+                        on 1 rank and with partition.method natural; a
+                        misspelt one is refused on 2 ranks with the line
+                        naming it (before: refused as unknown everywhere)."""
 import os
 import re
 import sys
@@ -45,11 +50,28 @@ def figures(scene, ranks):
             print(f"{np_} rank(s): edge cut {cut} of {ni} interfaces, imbalance {imb:.3f}")
 
 
+def options(scene):
+    good = ["-partition_mat_partitioning_type", "ptscotch"]
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "out.h5")
+        for np_, extra in ((2, []), (1, []), (2, ["-partition_method", "natural"])):
+            run(scene, ["-output_file", out, *good, *extra], np_)
+            print(f"{np_} rank(s) {' '.join(extra)}: {' '.join(good)} taken")
+        bad = "-partition_mat_partitioning_typo"
+        code, _, err = run(scene, ["-output_file", out, bad, "ptscotch"], 2, expect_ok=False)
+        lines = [l for l in err.splitlines() if l.startswith("blockwall:")]
+        expect(code == 1 and len(lines) == 1 and bad in lines[0], f"{bad} on 2 ranks: exit {code}, {err.strip()}")
+        print(f"2 ranks, {bad}: exit 1, {lines[0]}")
+
+
 if __name__ == "__main__":
     try:
-        if len(sys.argv) < 4 or sys.argv[1] != "figures":
-            raise Failure(f"usage: check_partition.py figures SCENE NP... (got {sys.argv[1:]})")
-        figures(sys.argv[2], [int(n) for n in sys.argv[3:]])
+        if len(sys.argv) >= 4 and sys.argv[1] == "figures":
+            figures(sys.argv[2], [int(n) for n in sys.argv[3:]])
+        elif len(sys.argv) == 3 and sys.argv[1] == "options":
+            options(sys.argv[2])
+        else:
+            raise Failure(f"usage: check_partition.py figures SCENE NP... | options SCENE (got {sys.argv[1:]})")
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
