@@ -11,7 +11,8 @@
 #            the output is written collectively. HDF5::HDF5, also known as
 #            PkgConfig::HDF5 (the name src/ links).
 #   libyaml  pkg-config yaml-0.1, PkgConfig::YAML
-#   METIS    metis.h and libmetis (METIS_DIR, PETSc's prefix, or the system)
+#   (METIS is not linked: the partition is PETSc's MatPartitioning, PT-Scotch
+#   or ParMETIS; METIS orders MUMPS's factorisations inside PETSc.)
 #
 # PETSc's optional packages are read from its petscconf.h and reported in
 # one configure message; BW_HAVE_MUMPS, BW_HAVE_SUITESPARSE and
@@ -109,11 +110,5 @@ endif()
 add_library(PkgConfig::HDF5 INTERFACE IMPORTED)
 target_link_libraries(PkgConfig::HDF5 INTERFACE HDF5::HDF5 MPI::MPI_C)
 
-# ---------------------------------------------------------------- libyaml, METIS
+# ---------------------------------------------------------------- libyaml
 pkg_check_modules(YAML REQUIRED IMPORTED_TARGET yaml-0.1)
-set(_bw_metis_hints "$ENV{METIS_DIR}" "${METIS_DIR}")
-if(PETSC_DIR)
-  list(APPEND _bw_metis_hints "${PETSC_DIR}/${PETSC_ARCH}" "${PETSC_DIR}")
-endif()
-find_path(METIS_INCLUDE_DIR metis.h HINTS ${_bw_metis_hints} PATH_SUFFIXES include REQUIRED)
-find_library(METIS_LIBRARY metis HINTS ${_bw_metis_hints} PATH_SUFFIXES lib lib64 REQUIRED)

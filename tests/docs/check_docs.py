@@ -62,6 +62,8 @@ SHELL_NOT_RUN = {
         "installs packages and builds: the build and the suite are what run this test",
     ("docs/accuracy.md", "cmake --build build"):
         "measurements that take minutes to hours (stability, error against time)",
+    ("docs/cluster.md", "#!/bin/bash"):
+        "a Slurm job script: needs a Slurm cluster, and its capitals (NODES, CORES, MEM, HH:MM:SS) are placeholders",
     ("docs/command-line.md", "mpiexec -n 4 build/bin/blockwall -scene SCENE.yaml [scene options] [PETSc options]"):
         "a synopsis with placeholders",
     ("docs/hdf5.md", "tools/import_dxf DRAWING.dxf GEOMETRY.h5 [--layer-sets] [--unit mm|cm|m] [--depth S]"):
