@@ -8,7 +8,8 @@ iterations; and the Schur solve's CG iterations summed over the run, from
 -schur_ksp_converged_reason, when S^ is solved by CG + GAMG), each rank's
 peak resident memory measured from outside (GNU time around each rank),
 and the bytes each rank sent as PETSc counts them (-log_view, "MPI Msg
-Len", average over the ranks; blockwall's own all-to-all moves of the
+Len": the sum over the ranks / ranks, and the largest rank's; blockwall's
+own all-to-all moves of the
 partition are not in PETSc's count). Time only where the ranks do not
 outnumber the cores.
 
@@ -60,8 +61,10 @@ def run(name, units, ranks, timeout=3600):
             blocks = f["blocks/displacement"].shape[0]
     cg = [int(m) for m in re.findall(r"Linear schur_ solve converged due to \w+ iterations (\d+)", p.stdout)]
     m = re.search(r"MPI Msg Len \(bytes\):\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)", p.stdout)
-    avg_bytes = float(m.group(3)) if m else float("nan")
-    return dict(blocks=blocks, peaks=peaks, outer=int(sv["iterations"]), cg=cg, bytes=avg_bytes,
+    # PETSc's columns: the largest rank's bytes, max/min, the mean message's
+    # length, the sum over the ranks; a rank's bytes are the sum / ranks
+    sent = (float(m.group(4)) / ranks, float(m.group(1))) if m else (float("nan"), float("nan"))
+    return dict(blocks=blocks, peaks=peaks, outer=int(sv["iterations"]), cg=cg, sent=sent,
                 seconds=float(sv["seconds_total"]), met=int(sv["accuracy_met"]), cut=int(sv["partition_edge_cut"]),
                 schur=sv.get("schur_solve", b"").decode() if isinstance(sv.get("schur_solve", b""), bytes) else sv.get("schur_solve", ""))
 
@@ -82,9 +85,10 @@ def main():
              "The same blocks per rank (square running-bond walls, m = 16 in 2D, m = 8, m_b = 4 in 3D; stresses not "
              "written), S^ by CG + GAMG (`-solver_schur gamg`). CG: the Schur solve's iterations, each solve's count "
              "(one per outer iteration). Memory: each rank's peak from GNU time around it. Sent: PETSc's 'MPI Msg Len' "
-             "average per rank (-log_view). Time only where ranks <= cores; 1 run each.\n",
+             "(-log_view): the bytes of PETSc's messages over all ranks / ranks, and the largest rank's (blockwall's own all-to-all "
+             "moves of the partition are not counted). Time only where ranks <= cores; 1 run each.\n",
              "| wall | ranks | blocks | blocks per rank | outer iterations | CG iterations per Schur solve | peak per rank [MB] (mean, max) "
-             "| sent per rank [MB] | edge cut | accuracy_met | time [s] |",
+             "| sent per rank [MB] (mean, max) | edge cut | accuracy_met | time [s] |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for name in a.parts.split(","):
         per = a.per_rank_2d if name == "2d" else a.per_rank_3d
@@ -95,7 +99,7 @@ def main():
             cg = f"{min(r['cg'])}-{max(r['cg'])}" if r["cg"] else "-"
             t = f"{r['seconds']:.1f}" if n <= cores else "(oversubscribed)"
             row = (f"| {name} {units}^2 | {n} | {r['blocks']} | {r['blocks'] / n:.0f} | {r['outer']} | {cg} | {mean:.0f}, {mx:.0f} | "
-                   f"{r['bytes'] / 2**20:.2f} | {r['cut']} | {r['met']} | {t} |")
+                   f"{r['sent'][0] / 2**20:.2f}, {r['sent'][1] / 2**20:.2f} | {r['cut']} | {r['met']} | {t} |")
             print(row, flush=True)
             lines.append(row)
     with open(a.out, "a") as f:
