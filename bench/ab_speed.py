@@ -28,6 +28,7 @@ import time
 import h5py
 import numpy as np
 
+import rank_peaks
 from machine import machine
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -39,8 +40,7 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 def once(exe, dim, units, ranks, stresses, out):
     key = "-geometry_running_bond"
     with tempfile.TemporaryDirectory() as tmp:
-        wrap = ["sh", "-c", f'exec /usr/bin/time -f %M -o {tmp}/mem.${{OMPI_COMM_WORLD_RANK:-0}} "$@"', "sh"]
-        cmd = (["mpiexec", "-n", str(ranks)] if ranks > 1 else []) + wrap + [
+        cmd = (["mpiexec", "-n", str(ranks)] if ranks > 1 else []) + rank_peaks.wrap(tmp) + [
             exe, "-scene", SCENES[dim], f"{key}_courses", str(units), f"{key}_units_per_course", str(units),
             "-output_stresses", "true" if stresses else "false", "-output_xdmf", "false", "-output_file", out]
         t0 = time.perf_counter()
@@ -48,7 +48,7 @@ def once(exe, dim, units, ranks, stresses, out):
         dt = time.perf_counter() - t0
         if p.returncode:
             sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
-        mem = sum(int(open(os.path.join(tmp, f"mem.{r}")).read().split()[-1]) * 1024 for r in range(ranks))
+        mem = sum(rank_peaks.read(tmp, ranks))
     return dt, mem
 
 

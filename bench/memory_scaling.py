@@ -17,13 +17,13 @@ usage: bench/memory_scaling.py [--parts 2d,3d] [--ranks 2,8] [--size 700] [--siz
 """
 import argparse
 import datetime
-import glob
 import os
 import statistics
 import subprocess
 import sys
 import tempfile
 
+import rank_peaks
 from machine import machine
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -37,17 +37,12 @@ SCENES = {"2d": os.path.join(ROOT, "examples", "large_wall.yaml"), "3d": os.path
 def per_rank_peaks(scene, ranks, args, timeout=3600):
     """Each rank's peak RSS [bytes], from GNU time around it; and the run's summary."""
     with tempfile.TemporaryDirectory() as tmp:
-        wrap = ["sh", "-c", f'exec /usr/bin/time -f %M -o {tmp}/mem.$OMPI_COMM_WORLD_RANK "$@"', "sh"]
-        cmd = ["mpiexec", "-n", str(ranks), *wrap, EXE, "-scene", scene, "-output_file", os.path.join(tmp, "o.h5"),
+        cmd = ["mpiexec", "-n", str(ranks), *rank_peaks.wrap(tmp), EXE, "-scene", scene, "-output_file", os.path.join(tmp, "o.h5"),
                "-output_xdmf", "false", *args]
         p = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=timeout)
         if p.returncode:
             sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
-        peaks = []
-        for r in range(ranks):
-            with open(os.path.join(tmp, f"mem.{r}")) as f:
-                peaks.append(int(f.read().split()[-1]) * 1024)
-        return peaks, p.stdout
+        return rank_peaks.read(tmp, ranks), p.stdout
 
 
 def part(name, size, ranks, extra=()):

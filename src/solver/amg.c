@@ -3,7 +3,7 @@
  * blocks that touch very many others ("long" blocks: a top beam over a
  * whole course) eliminated exactly by a change of basis.
  *
- * Why (bench/schur3d.md, a 3D running-bond wall of N x N units bending out
+ * Why (measured with bench/schur3d.py, a 3D running-bond wall of N x N units bending out
  * of its plane): CG + GAMG with the rigid modes alone took 93-172 CG
  * iterations per Richardson step at 1e5 blocks, growing like N^0.4. Three
  * things made it grow:
@@ -55,7 +55,7 @@
 #define BW_LONG_MAX 4
 /* dofs per block in 3D */
 #define BW_LONG_ND 6
-/* Relative residual of the solves for Z; 1e-4 was as good (bench/schur3d.md) */
+/* Relative residual of the solves for Z; 1e-4 was as good (bench/schur3d.py) */
 #define BW_LONG_ZTOL 1e-6
 /* GAMG's graph threshold in 3D (relative to the scaled diagonal). */
 #define BW_GAMG_THRESHOLD_3D 0.05
