@@ -126,6 +126,62 @@ TAIL_LINES = 20     # lines of stdout and of stderr shown
 _running = set()    # watched processes not yet reaped: killed if Python exits first
 
 
+class _Stalls:
+    """How long this machine stopped running us: a thread that wakes every
+    TICK seconds and keeps the gaps between its wake-ups longer than STALL
+    (a virtual machine paused by its host, or starved of CPU by it: CI
+    machines have shown both, every test on them slow or still for minutes
+    at once). A watchdog report says so, with the CPU's steal time from
+    /proc/stat over the same interval, so that a timeout on a stalled
+    machine is not read as a hang of blockwall's."""
+    TICK, STALL = 0.5, 5.0
+
+    def __init__(self):
+        self.gaps = []  # (monotonic time at the end of the gap, its length [s])
+        self.steal0 = self.steal()
+        t = threading.Thread(target=self._run, daemon=True)
+        t.start()
+
+    @staticmethod
+    def steal():
+        """Seconds of CPU time the host took from this machine (all CPUs), or None."""
+        try:
+            with open("/proc/stat") as f:
+                fields = f.readline().split()
+            return int(fields[8]) / os.sysconf("SC_CLK_TCK")
+        except (OSError, IndexError, ValueError):
+            return None
+
+    def _run(self):
+        last = time.monotonic()
+        while True:
+            time.sleep(self.TICK)
+            now = time.monotonic()
+            if now - last > self.STALL:
+                self.gaps.append((now, now - last - self.TICK))
+            last = now
+
+    def summary(self, since):
+        gaps = [g for t, g in self.gaps if t >= since]
+        steal, s = self.steal(), self.steal0
+        stolen = f"{steal - s:.0f} s of CPU time stolen by the host since the first watched run" if steal is not None and s is not None else "steal time unknown"
+        load = ""
+        try:
+            with open("/proc/loadavg") as f:
+                load = "load average " + " ".join(f.read().split()[:3]) + "; "
+        except OSError:
+            pass
+        if gaps:
+            return (f"{load}the machine stood still {len(gaps)} time(s) while this run was watched, "
+                    f"{sum(gaps):.0f} s in all (longest {max(gaps):.0f} s): a paused or starved machine, not a slow run; {stolen}")
+        return f"{load}no stall of this machine seen while the run was watched (ticks every {self.TICK} s); {stolen}"
+
+
+@functools.lru_cache(maxsize=1)
+def stalls():
+    return _Stalls()
+
+
 def process_table():
     """{pid: (ppid, comm, state)} of every process now visible in /proc."""
     table = {}
@@ -199,6 +255,8 @@ class Watched:
         self._out_done = False
         self._next = 0  # lines of stdout returned by readline
         self.started = time.monotonic()
+        if timeout is not None:
+            stalls()  # start measuring stalls of the machine with the first watched run
         self.proc = subprocess.Popen(self.cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                      text=True, errors="replace", env=env, cwd=cwd,
                                      start_new_session=timeout is not None)
@@ -258,7 +316,12 @@ class Watched:
         lines = [f"WATCHDOG: {name} did not end within {why or f'{self.timeout:.0f} s'} "
                  f"({waited:.0f} s since it started); killed.",
                  f"  command: {' '.join(self.cmd)}",
-                 "  processes: " + ", ".join(f"{p} {c} ({s})" for p, c, s in tree)]
+                 "  processes: " + ", ".join(f"{p} {c} ({s})" for p, c, s in tree),
+                 f"  machine: {stalls().summary(self.started)}"]
+        # the head at once: if the test's own deadline (ctest's TIMEOUT)
+        # comes while gdb runs, what the processes were doing is on record
+        print("\n".join(lines) + "\n  (backtraces follow)", file=sys.stderr, flush=True)
+        head = len(lines)
         if self.diagnose:
             ranks = [(p, c) for p, c, _ in tree if c not in LAUNCHERS][:MAX_BACKTRACES]
             traces = {}
@@ -279,7 +342,7 @@ class Watched:
         lines += [l.rstrip("\n") for l in err[-TAIL_LINES:]] or ["(none)"]
         self._kill([p for p, _, _ in tree])
         report = "\n".join(lines)
-        print(report, file=sys.stderr, flush=True)
+        print("\n".join(lines[head:]), file=sys.stderr, flush=True)
         self.report = report
         self._reported.set()
 

@@ -69,6 +69,8 @@ def check_report(report, ranks, first, gdb):
     progress line the run printed before the hang, or None (not known)."""
     expect(report.startswith("WATCHDOG: ") and "did not end within" in report and "killed" in report,
            f"the report does not say what happened:\n{report[:500]}")
+    expect(re.search(r"\n  machine: (load average [0-9. ]+; )?(no stall of this machine seen|the machine stood still)", report),
+           f"the report does not say whether the machine stalled:\n{report[:800]}")
     tree = re.search(r"processes: (.*)", report)
     expect(tree and "mpiexec" in tree.group(1) and all(f"{r} blockwall" in tree.group(1) for r in ranks)
            and f"{ranks[1]} blockwall (T)" in tree.group(1), f"the process tree does not show both ranks, rank 1 stopped: "
