@@ -79,16 +79,24 @@ static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, K
     s->fw_it            = 0;
     s->forward_estimate = rnorm == 0 ? 0 : PETSC_INFINITY;
   } else if (it != s->fw_it) {
+    PetscInt nx, nq;
     PetscCall(BwMixedGetFields(s->mx, NULL, &isq));
     PetscCall(KSPGetSolution(ksp, &x));
-    PetscCall(VecGetSubVector(x, isq, &xq));
+    PetscCall(VecGetSize(x, &nx));
+    PetscCall(VecGetSize(s->fw_weight, &nq));
+    /* the refinement on q (fieldsplit) or on the whole system (direct) */
+    if (nx == nq) {
+      PetscCall(PetscObjectReference((PetscObject)x));
+      xq = x;
+    } else PetscCall(VecGetSubVector(x, isq, &xq));
     PetscCall(VecWAXPY(s->fw_work, -1.0, s->fw_prev, xq));
     PetscCall(VecPointwiseMult(s->fw_work, s->fw_work, s->fw_weight));
     PetscCall(VecNorm(s->fw_work, NORM_INFINITY, &dn));
     PetscCall(VecCopy(xq, s->fw_prev));
     PetscCall(VecPointwiseMult(s->fw_work, xq, s->fw_weight));
     PetscCall(VecNorm(s->fw_work, NORM_INFINITY, &qn));
-    PetscCall(VecRestoreSubVector(x, isq, &xq));
+    if (nx == nq) PetscCall(VecDestroy(&xq));
+    else PetscCall(VecRestoreSubVector(x, isq, &xq));
     /* relative to the whole displacement field, prescribed values included:
      * where loads vanish and only prescribed dofs move, the free dofs may be
      * zero up to round-off (a relative correction of round-off to round-off
@@ -285,6 +293,15 @@ static PetscErrorCode BwMatAbsMult(Mat A, Vec x, Vec y)
  * refinement, and bounding with it claimed 2e-5 on walls right to 1e-15.
  * Only where the condition estimate runs (trouble seen), as K~ is
  * assembled for |K~|. */
+/* The path's preconditioner as an inverse of the whole system. */
+static PetscErrorCode BwPathApplyInverse(BwPath *path, PC pc, Vec z, Vec y)
+{
+  PetscFunctionBeginUser;
+  if (path->qspace) PetscCall(BwSchurPCApplyFull(pc, z, y));
+  else PetscCall(PCApply(pc, z, y));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *ferr)
 {
   Vec       xa, g, v, y, w, wq, xq;
@@ -295,10 +312,15 @@ PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *
   PC        pc;
   Mat       A, Aown = NULL;
 
+  PetscFunctionBeginUser;
   PetscCall(BwSolverForwardSetUp(s));
   PetscCall(KSPGetPC(path->ksp, &pc));
   PetscCall(PCGetOperators(pc, &A, NULL));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &set, MATSEQAIJ, MATMPIAIJ, ""));
+  /* a fieldsplit path refines on q: its PC inverts S~, and the bound is on
+   * the whole system, through the Schur PC's elimination */
+  if (path->qspace) A = NULL;
+  else PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &set, MATSEQAIJ, MATMPIAIJ, ""));
+  if (!A) set = PETSC_FALSE;
   if (!set) {
     PetscCall(BwMixedCreateAIJ(s->mx, &Aown));
     A = Aown;
@@ -350,7 +372,7 @@ PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *
   for (PetscInt k = 0; k < BW_CONDITION_ITERATIONS; k++) {
     PetscScalar *a, ztx;
     PetscCall(VecPointwiseMult(y, w, v));
-    if (symmetric) PetscCall(PCApply(pc, y, xa));
+    if (symmetric) PetscCall(BwPathApplyInverse(path, pc, y, xa));
     else PetscCall(PCApplyTranspose(pc, y, xa));
     PetscCall(VecPointwiseMult(y, g, xa));
     PetscCall(VecNorm(y, NORM_1, &ynorm));
@@ -360,7 +382,7 @@ PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *
     for (PetscInt i = 0; i < hi - lo; i++) a[i] = PetscRealPart(a[i]) >= 0 ? 1.0 : -1.0;
     PetscCall(VecRestoreArray(y, &a));
     PetscCall(VecPointwiseMult(y, g, y));
-    PetscCall(PCApply(pc, y, xa));
+    PetscCall(BwPathApplyInverse(path, pc, y, xa));
     PetscCall(VecPointwiseMult(xa, w, xa));
     PetscCall(VecDot(xa, v, &ztx));
     PetscCall(VecAbs(xa));

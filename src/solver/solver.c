@@ -60,6 +60,8 @@ PetscErrorCode BwSolverReset(BwSolver s)
   PetscCall(KSPDestroy(&s->direct.ksp));
   PetscCall(KSPDestroy(&s->condensed.ksp));
   PetscCall(MatDestroy(&s->Kaij));
+  PetscCall(MatDestroy(&s->Sexact));
+  PetscCall(VecDestroy(&s->wq));
   PetscCall(VecDestroy(&s->fw_weight));
   PetscCall(VecDestroy(&s->fw_prev));
   PetscCall(VecDestroy(&s->fw_work));
@@ -114,17 +116,15 @@ PetscErrorCode BwSolverGetStorage(BwSolver s, BwStorage *storage)
  * complement factored the preconditioner is the exact inverse up to
  * round-off and one step converges (a second checks it); with CG + GAMG
  * each step gains about five digits. It keeps two work vectors, where
- * FGMRES keeps two per iteration: each holds 2m stresses per interface
- * (0.8 KB per block at m = 16). */
-static PetscErrorCode BwSolverOuterKSP(BwSolver s, const char prefix[], PetscInt maxit, KSP *ksp)
+ * FGMRES keeps two per iteration. On the fieldsplit paths it refines on
+ * the block dofs (A = S~, schur.c), its vectors 3 or 6 values per block;
+ * on the direct path on the whole system (A = K~). */
+static PetscErrorCode BwSolverOuterKSP(BwSolver s, const char prefix[], PetscInt maxit, Mat A, KSP *ksp)
 {
-  Mat K;
-
   PetscFunctionBeginUser;
   PetscCall(KSPCreate(s->comm, ksp));
   if (prefix) PetscCall(KSPSetOptionsPrefix(*ksp, prefix));
-  PetscCall(BwMixedGetOperators(s->mx, &K, NULL, NULL));
-  PetscCall(KSPSetOperators(*ksp, K, K));
+  PetscCall(KSPSetOperators(*ksp, A, A));
   PetscCall(KSPSetType(*ksp, KSPRICHARDSON));
   PetscCall(KSPSetNormType(*ksp, KSP_NORM_UNPRECONDITIONED));
   PetscCall(KSPSetTolerances(*ksp, s->rtol, 0.0, PETSC_DEFAULT, maxit));
@@ -134,7 +134,12 @@ static PetscErrorCode BwSolverOuterKSP(BwSolver s, const char prefix[], PetscInt
 static PetscErrorCode BwSolverCreateFieldsplit(BwSolver s, BwPath *path, const char prefix[], PetscBool factor)
 {
   PetscFunctionBeginUser;
-  PetscCall(BwSolverOuterKSP(s, prefix, factor || !s->schur_iterative ? 5 : 30, &path->ksp));
+  if (!s->Sexact) {
+    PetscCall(BwMixedCreateSchurOperator(s->mx, &s->Sexact));
+    PetscCall(MatCreateVecs(s->Sexact, &s->wq, NULL));
+  }
+  PetscCall(BwSolverOuterKSP(s, prefix, factor || !s->schur_iterative ? 5 : 30, s->Sexact, &path->ksp));
+  path->qspace = PETSC_TRUE;
   PetscCall(BwSchurPCSetUp(s, path->ksp, factor));
   PetscCall(KSPSetFromOptions(path->ksp));
   PetscCall(BwSolverSetConvergenceTest(s, path->ksp));
@@ -151,8 +156,7 @@ static PetscErrorCode BwSolverCreateDirect(BwSolver s)
   PetscFunctionBeginUser;
   PetscCall(BwMixedCreateAIJ(s->mx, &s->Kaij));
   PetscCall(BwMixedGetValuesState(s->mx, &s->kaij_state));
-  PetscCall(BwSolverOuterKSP(s, "direct_", 5, &s->direct.ksp));
-  PetscCall(KSPSetOperators(s->direct.ksp, s->Kaij, s->Kaij));
+  PetscCall(BwSolverOuterKSP(s, "direct_", 5, s->Kaij, &s->direct.ksp));
   PetscCall(KSPGetPC(s->direct.ksp, &pc));
   PetscCall(BwSolverSetFactor(s, pc, BW_FACTOR_LU_PIVOTING, s->Kaij));
   PetscCall(KSPSetFromOptions(s->direct.ksp));
@@ -335,7 +339,24 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   ierr = KSPSetUp(path->ksp);
   PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
   PetscCall(BwLogBegin(log, BW_PHASE_SOLVE));
-  if (!ierr) ierr = KSPSolve(path->ksp, b, x);
+  if (!ierr && path->qspace) {
+    /* on the block dofs: w = b_q + D^T b_r, S~ q = w to solver.rtol of the
+     * whole right-hand side (the residual of the full system once the
+     * stresses are T D^ q - b_r), then the stresses */
+    Vec       xq;
+    IS        isq;
+    PetscReal bnorm;
+    ierr = VecNorm(b, NORM_2, &bnorm);
+    if (!ierr) ierr = KSPSetTolerances(path->ksp, 0.0, s->rtol * bnorm, PETSC_DEFAULT, PETSC_DEFAULT);
+    if (!ierr) ierr = BwMixedSchurRHS(s->mx, b, s->wq);
+    if (!ierr) ierr = BwMixedGetFields(s->mx, NULL, &isq);
+    if (!ierr) ierr = VecGetSubVector(x, isq, &xq);
+    if (!ierr) {
+      ierr = KSPSolve(path->ksp, s->wq, xq);
+      PetscCall(VecRestoreSubVector(x, isq, &xq));
+    }
+    if (!ierr) ierr = BwMixedStressesFromDofs(s->mx, b, x);
+  } else if (!ierr) ierr = KSPSolve(path->ksp, b, x);
   PetscCall(PetscPopErrorHandler());
   if (!ierr) {
     PetscCall(KSPGetConvergedReason(path->ksp, &kr));

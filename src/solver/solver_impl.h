@@ -14,6 +14,7 @@ typedef struct {
   KSP         ksp;
   BwMethod    method; /* what /solver calls it */
   PetscBool   ran, ran_once; /* in the last solve; ever (its first solve sets it up) */
+  PetscBool   qspace; /* its KSP refines on the block dofs (S~, fieldsplit paths), else on K */
 } BwPath;
 
 struct _n_BwSolver {
@@ -30,6 +31,8 @@ struct _n_BwSolver {
   PetscReal    forward_rtol;   /* -solver_forward_rtol, default solver.rtol */
   /* the paths, in the order auto tries them */
   BwPath       fieldsplit, cholesky, direct, condensed;
+  Mat          Sexact; /* S~ applied exactly: the operator of the fieldsplit paths' refinement on q */
+  Vec          wq;     /* its right-hand side, b_q + D^T b_r */
   Mat          Kaij; /* the assembled saddle matrix of the direct path, built on demand */
   PetscInt     kaij_state; /* the operators' values state Kaij holds */
   PetscInt     values_seen, setups; /* operator values of the last solve; solves that set up a new factor or hierarchy */
@@ -59,6 +62,8 @@ struct _n_BwSolver {
 PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor);
 /* The KSP of the Schur solve of a fieldsplit path (NULL for other paths). */
 PetscErrorCode BwSchurPCGetInner(KSP outer, KSP *inner);
+/* The Schur PC's elimination on whole-system vectors (z, y of K's size). */
+PetscErrorCode BwSchurPCApplyFull(PC pc, Vec z, Vec y);
 /* Factor-PC defaults for a Cholesky or LU with the package this PETSc has:
  * null-pivot detection with MUMPS. */
 PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, BwFactorKind kind, Mat A);

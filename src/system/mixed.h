@@ -76,6 +76,15 @@ PetscErrorCode BwMixedGetFields(BwMixed mixed, IS *isr, IS *isq);
 PetscErrorCode BwMixedApplyTangent(BwMixed mixed, Vec yr);
 /* The prescribed-dof mask P of the q rows (1 at prescribed dofs). */
 PetscErrorCode BwMixedGetPrescribedMask(BwMixed mixed, Vec *mask);
+/* The refinement on the block dofs (solver.c): the stresses eliminated
+ * exactly, r~ = T D^ q~ - b_r, leave S~ q~ = b_q + D^T b_r with
+ * S~ = D^T T D^ + P. BwMixedCreateSchurOperator: S~ applied exactly, not
+ * from the assembled S^ (whose round-off the refinement corrects), and
+ * without a vector of the stresses' size; BwMixedSchurRHS: w = b_q + D^T
+ * b_r (w of q size); BwMixedStressesFromDofs: x_r = T D^ x_q - b_r. */
+PetscErrorCode BwMixedCreateSchurOperator(BwMixed mixed, Mat *S);
+PetscErrorCode BwMixedSchurRHS(BwMixed mixed, Vec b, Vec w);
+PetscErrorCode BwMixedStressesFromDofs(BwMixed mixed, Vec b, Vec x);
 /* K as one AIJ matrix (new), for a direct factorisation. */
 PetscErrorCode BwMixedCreateAIJ(BwMixed mixed, Mat *aij);
 /* Rigid motions of the whole assembly in the scaled dofs (GAMG's near-null
