@@ -425,7 +425,9 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     PetscBool stalled = (pcr == PC_NOERROR && npiv == 0 && (kr == KSP_DIVERGED_ITS || kr == KSP_DIVERGED_DTOL)) ? PETSC_TRUE : PETSC_FALSE;
     /* stagnation at the round-off floor of an ill-conditioned system */
     *usable = stalled && s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
-    if (stalled && s->check.residual <= s->rtol)
+    if (stalled && s->floor_stall && !(s->check.residual <= s->rtol))
+      PetscCall(PetscSNPrintf(reason, len, "%s stopped at the round-off floor of the residual after %" PetscInt_FMT " steps: true residual %.3e, estimated displacement error %.1e", path->name, s->iterations, (double)s->check.residual, (double)s->forward_estimate));
+    else if (stalled && s->check.residual <= s->rtol)
       PetscCall(PetscSNPrintf(reason, len, "%s: the refinement's corrections did not settle in %" PetscInt_FMT " steps: estimated displacement error %.1e above solver.forward_rtol %.1e (true residual %.3e)", path->name, s->iterations, (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual));
     else
       PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", path->name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
@@ -540,6 +542,14 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     char           why[512];
     MatSolverType  type;
     PetscCall(BwFactorPackage(s->comm, s->symmetric ? BW_FACTOR_CHOLESKY : BW_FACTOR_LU, &type));
+    /* stopped at the residual's round-off floor with the displacements
+     * within forward_rtol: S^ factored refines against the same residual
+     * and stops at the same floor, after a factorisation that may not fit
+     * in memory where CG + GAMG was chosen */
+    if (type && s->floor_stall) {
+      PetscCall(PetscStrlcat(reason, "; S^ was not factored: the refinement stopped at the round-off floor of the residual, where a factorisation stops too", sizeof(reason)));
+      type = NULL;
+    }
     if (type) {
       if (!s->cholesky.ksp) PetscCall(BwSolverCreateFieldsplit(s, &s->cholesky, "cholesky_", PETSC_TRUE));
       s->used       = BW_METHOD_FIELDSPLIT;

@@ -55,6 +55,8 @@ struct _n_BwSolver {
   Vec          fw_weight, fw_prev, fw_work;
   PetscReal    fw_last, fw_ratio, fw_prescribed; /* last correction, last ratio of corrections */
   PetscInt     fw_it;
+  PetscReal    fw_rprev;    /* the last step's residual norm */
+  PetscBool    floor_stall; /* the last refinement stopped at the residual's round-off floor, its displacements within forward_rtol */
 };
 
 /* schur.c: the Schur PC on an outer KSP, its Schur solve with prefix

@@ -10,6 +10,14 @@
             outer step) falls back first to the fieldsplit with S^ factored
             by MUMPS, which answers: recorded in /solver, equal to the direct
             path's answer to 1e-10
+  floor     a CG+GAMG fieldsplit asked for a residual below its round-off
+            floor (rtol 1e-16 on the demo wall, whose residual stops near
+            1e-14 on any CPU) with the displacements' forward_rtol 1e-8,
+            which the first steps meet: it stops as stalled within a few
+            steps (not at its 30-step limit), `auto` does not factor S^
+            (two set-ups: GAMG and the direct path, which stops at its own
+            floor), the reason names the floor, accuracy_met 0, and the
+            answer equals the direct path's to 1e-10
   warn      a tolerance below double precision's reach (rtol 1e-18) is missed
             by every path: the run still writes the best answer, says so on
             stdout (WARNING) and in /solver (accuracy_met 0, warning), and
@@ -98,6 +106,20 @@ def gamg_fallback():
     print(f"CG+GAMG failure caught by the Cholesky fieldsplit: {s['fallback_reason']}; error {e:.1e}")
 
 
+def floor():
+    from bwrun import solve
+    scene = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
+    ref = solve(scene, ["-solver_method", "direct"])
+    res = solve(scene, ["-solver_schur", "gamg", "-solver_rtol", "1e-16", "-solver_forward_rtol", "1e-8"])
+    s = res["solver"]
+    expect("round-off floor" in s["fallback_reason"], f"the reason does not name the floor: {s['fallback_reason']!r}")
+    expect(s["setups"] == 2, f"{s['setups']} set-ups: S^ was factored after the floor (want GAMG and direct only)")
+    expect(s["accuracy_met"] == 0 and "misses solver.rtol" in s["warning"], f"no warning recorded: {s}")
+    e = rel_err(res["blocks/displacement"], ref["blocks/displacement"])
+    expect(e < 1e-10, f"answer vs the direct path {e:.2e}")
+    print(f"stopped at the floor: {s['fallback_reason']}; {s['setups']} set-ups; error {e:.1e} against direct")
+
+
 def warn():
     """On the demo wall the round-off of any double-precision solve leaves a
     true residual near 1e-14 (on the paper's two blocks the Schur solve is
@@ -120,7 +142,7 @@ def warn():
 
 if __name__ == "__main__":
     try:
-        {"gamg_fallback": gamg_fallback, "warn": warn, "agree": agree, "fallback": fallback, "strict": strict, "wall": wall}[sys.argv[1]]()
+        {"gamg_fallback": gamg_fallback, "floor": floor, "warn": warn, "agree": agree, "fallback": fallback, "strict": strict, "wall": wall}[sys.argv[1]]()
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
