@@ -62,6 +62,7 @@ PetscErrorCode BwSolverReset(BwSolver s)
   PetscCall(MatDestroy(&s->Kaij));
   PetscCall(MatDestroy(&s->Sexact));
   PetscCall(VecDestroy(&s->wq));
+  PetscCall(VecDestroy(&s->xq));
   PetscCall(VecDestroy(&s->fw_weight));
   PetscCall(VecDestroy(&s->fw_prev));
   PetscCall(VecDestroy(&s->fw_work));
@@ -136,7 +137,7 @@ static PetscErrorCode BwSolverCreateFieldsplit(BwSolver s, BwPath *path, const c
   PetscFunctionBeginUser;
   if (!s->Sexact) {
     PetscCall(BwMixedCreateSchurOperator(s->mx, &s->Sexact));
-    PetscCall(MatCreateVecs(s->Sexact, &s->wq, NULL));
+    PetscCall(MatCreateVecs(s->Sexact, &s->wq, &s->xq));
   }
   PetscCall(BwSolverOuterKSP(s, prefix, factor || !s->schur_iterative ? 5 : 30, s->Sexact, &path->ksp));
   path->qspace = PETSC_TRUE;
@@ -349,10 +350,14 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     ierr = VecNorm(b, NORM_2, &bnorm);
     if (!ierr) ierr = KSPSetTolerances(path->ksp, 0.0, s->rtol * bnorm, PETSC_DEFAULT, PETSC_DEFAULT);
     if (!ierr) ierr = BwMixedSchurRHS(s->mx, b, s->wq);
+    /* into a vector of the solver's own, not a view of x: the KSP keeps a
+     * reference to its solution after the solve, which a view restored to
+     * x must not outlive */
+    if (!ierr) ierr = KSPSolve(path->ksp, s->wq, s->xq);
     if (!ierr) ierr = BwMixedGetFields(s->mx, NULL, &isq);
     if (!ierr) ierr = VecGetSubVector(x, isq, &xq);
     if (!ierr) {
-      ierr = KSPSolve(path->ksp, s->wq, xq);
+      ierr = VecCopy(s->xq, xq);
       PetscCall(VecRestoreSubVector(x, isq, &xq));
     }
     if (!ierr) ierr = BwMixedStressesFromDofs(s->mx, b, x);

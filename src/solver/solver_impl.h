@@ -32,7 +32,7 @@ struct _n_BwSolver {
   /* the paths, in the order auto tries them */
   BwPath       fieldsplit, cholesky, direct, condensed;
   Mat          Sexact; /* S~ applied exactly: the operator of the fieldsplit paths' refinement on q */
-  Vec          wq;     /* its right-hand side, b_q + D^T b_r */
+  Vec          wq, xq; /* its right-hand side, b_q + D^T b_r, and solution */
   Mat          Kaij; /* the assembled saddle matrix of the direct path, built on demand */
   PetscInt     kaij_state; /* the operators' values state Kaij holds */
   PetscInt     values_seen, setups; /* operator values of the last solve; solves that set up a new factor or hierarchy */
