@@ -341,10 +341,9 @@ PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *
   PetscCall(KSPGetPC(path->ksp, &pc));
   PetscCall(PCGetOperators(pc, &A, NULL));
   /* a fieldsplit path refines on q: its PC inverts S~, and the bound is on
-   * the whole system, through the Schur PC's elimination */
-  if (path->qspace) A = NULL;
-  else PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &set, MATSEQAIJ, MATMPIAIJ, ""));
-  if (!A) set = PETSC_FALSE;
+   * the whole system (assembled here), through the Schur PC's elimination */
+  set = PETSC_FALSE;
+  if (!path->qspace) PetscCall(PetscObjectTypeCompareAny((PetscObject)A, &set, MATSEQAIJ, MATMPIAIJ, ""));
   if (!set) {
     PetscCall(BwMixedCreateAIJ(s->mx, &Aown));
     A = Aown;

@@ -54,24 +54,16 @@ static PetscErrorCode BwSchurPCApply(PC pc, Vec z, Vec y)
 PetscErrorCode BwSchurPCApplyFull(PC pc, Vec z, Vec y)
 {
   BwSchurPC *ctx;
-  Vec        zr, zq, yr, yq;
+  Vec        yq;
 
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &ctx));
   if (!ctx->w) PetscCall(MatCreateVecs(ctx->D, &ctx->w, NULL));
-  PetscCall(VecGetSubVector(z, ctx->isr, &zr));
-  PetscCall(VecGetSubVector(z, ctx->isq, &zq));
-  PetscCall(VecGetSubVector(y, ctx->isr, &yr));
+  PetscCall(BwMixedSchurRHS(ctx->mx, z, ctx->w));
   PetscCall(VecGetSubVector(y, ctx->isq, &yq));
-  PetscCall(MatMultTransposeAdd(ctx->D, zr, zq, ctx->w));
   PetscCall(KSPSolve(ctx->inner, ctx->w, yq));
-  PetscCall(MatMult(ctx->D, yq, yr));
-  PetscCall(BwMixedApplyTangent(ctx->mx, yr));
-  PetscCall(VecAXPY(yr, -1.0, zr));
   PetscCall(VecRestoreSubVector(y, ctx->isq, &yq));
-  PetscCall(VecRestoreSubVector(y, ctx->isr, &yr));
-  PetscCall(VecRestoreSubVector(z, ctx->isq, &zq));
-  PetscCall(VecRestoreSubVector(z, ctx->isr, &zr));
+  PetscCall(BwMixedStressesFromDofs(ctx->mx, z, y));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

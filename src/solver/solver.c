@@ -262,13 +262,13 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
 static PetscErrorCode BwSolverCondensed(BwSolver s, Vec b, Vec x, BwLog *log)
 {
   PC  pc;
-  Mat S, D;
-  IS  isr, isq;
-  Vec br, bq, xr, xq, rhs;
+  Mat S;
+  IS  isq;
+  Vec xq, rhs;
 
   PetscFunctionBeginUser;
-  PetscCall(BwMixedGetOperators(s->mx, NULL, &S, &D));
-  PetscCall(BwMixedGetFields(s->mx, &isr, &isq));
+  PetscCall(BwMixedGetOperators(s->mx, NULL, &S, NULL));
+  PetscCall(BwMixedGetFields(s->mx, NULL, &isq));
   if (!s->condensed.ksp) {
     PetscCall(KSPCreate(s->comm, &s->condensed.ksp));
     PetscCall(KSPSetOptionsPrefix(s->condensed.ksp, "condensed_"));
@@ -283,21 +283,13 @@ static PetscErrorCode BwSolverCondensed(BwSolver s, Vec b, Vec x, BwLog *log)
   PetscCall(KSPSetUp(s->condensed.ksp));
   PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
   PetscCall(BwLogBegin(log, BW_PHASE_SOLVE));
-  PetscCall(VecGetSubVector(b, isr, &br));
-  PetscCall(VecGetSubVector(b, isq, &bq));
-  PetscCall(VecGetSubVector(x, isr, &xr));
+  PetscCall(MatCreateVecs(S, &rhs, NULL));
+  PetscCall(BwMixedSchurRHS(s->mx, b, rhs)); /* F^ + D^T b_r */
   PetscCall(VecGetSubVector(x, isq, &xq));
-  PetscCall(VecDuplicate(bq, &rhs));
-  PetscCall(MatMultTransposeAdd(D, br, bq, rhs)); /* F^ + D^T b_r */
   PetscCall(KSPSolve(s->condensed.ksp, rhs, xq));
-  PetscCall(MatMult(D, xq, xr));
-  PetscCall(BwMixedApplyTangent(s->mx, xr));
-  PetscCall(VecAXPY(xr, -1.0, br)); /* r~ = T D^ q~ - b_r */
-  PetscCall(VecDestroy(&rhs));
   PetscCall(VecRestoreSubVector(x, isq, &xq));
-  PetscCall(VecRestoreSubVector(x, isr, &xr));
-  PetscCall(VecRestoreSubVector(b, isq, &bq));
-  PetscCall(VecRestoreSubVector(b, isr, &br));
+  PetscCall(VecDestroy(&rhs));
+  PetscCall(BwMixedStressesFromDofs(s->mx, b, x)); /* r~ = T D^ q~ - b_r */
   PetscCall(BwLogEnd(log, BW_PHASE_SOLVE));
   s->used       = BW_METHOD_CONDENSED;
   s->iterations = 0;
@@ -344,7 +336,6 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     /* on the block dofs: w = b_q + D^T b_r, S~ q = w to solver.rtol of the
      * whole right-hand side (the residual of the full system once the
      * stresses are T D^ q - b_r), then the stresses */
-    Vec       xq;
     IS        isq;
     PetscReal bnorm;
     ierr = VecNorm(b, NORM_2, &bnorm);
@@ -355,11 +346,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
      * x must not outlive */
     if (!ierr) ierr = KSPSolve(path->ksp, s->wq, s->xq);
     if (!ierr) ierr = BwMixedGetFields(s->mx, NULL, &isq);
-    if (!ierr) ierr = VecGetSubVector(x, isq, &xq);
-    if (!ierr) {
-      ierr = VecCopy(s->xq, xq);
-      PetscCall(VecRestoreSubVector(x, isq, &xq));
-    }
+    if (!ierr) ierr = VecISCopy(x, isq, SCATTER_FORWARD, s->xq);
     if (!ierr) ierr = BwMixedStressesFromDofs(s->mx, b, x);
   } else if (!ierr) ierr = KSPSolve(path->ksp, b, x);
   PetscCall(PetscPopErrorHandler());

@@ -1,6 +1,6 @@
 """Which BLAS a run loaded, as blockwall reports it (summary line and
-/solver blas). tools/test runs the numerically sensitive labels a second
-time with the reference BLAS selected through LD_LIBRARY_PATH and sets
+/solver blas). tools/test runs the whole suite a second time with the
+reference BLAS selected through LD_LIBRARY_PATH and sets
 BW_EXPECT_BLAS to its directory: this test then fails unless the run really
 loaded it, so the second pass cannot silently test OpenBLAS twice. Without
 BW_EXPECT_BLAS it checks that some BLAS library was found and reported."""
