@@ -19,7 +19,16 @@ struct _n_BwJointField {
   const BwPortions *portions;
   PetscInt        nfailed, failed_k;
   int             failed_status;
+  /* IMPL-EX: the plastic jump's rate per unit of the path parameter (ns per
+   * portion, allocated on first use), the span of the step being solved
+   * (0: none; the commit turns the step's increment into the rates), and
+   * the measure of the implicit update (largest |C^-1/2 dr|, |C^-1/2 r|) */
+  PetscReal      *rate, span;
+  PetscBool       extrapolate, measure;
+  PetscReal       err_diff, err_scale, err_scale_last, err_new;
 };
+
+static const PetscInt BwJointFieldPlasticIndex[3] = {BW_LAW_STATE_SLIP, BW_LAW_STATE_OPENING, BW_LAW_STATE_SLIP_B};
 
 /* C = diag(kt, kn[, kt]) of interface k, ns x ns row-major. */
 static void BwJointFieldElastic(BwJointField f, PetscInt k, PetscReal c[])
@@ -73,6 +82,7 @@ PetscErrorCode BwJointFieldDestroy(BwJointField *field)
   PetscCall(PetscFree5((*field)->mode, (*field)->committed_mode, (*field)->seen_mode, (*field)->older_mode, (*field)->flips));
   PetscCall(PetscFree((*field)->newton_tangent));
   PetscCall(PetscFree((*field)->stress));
+  PetscCall(PetscFree((*field)->rate));
   PetscCall(PetscFree((*field)->poff));
   PetscCall(PetscFree(*field));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -97,8 +107,58 @@ PetscErrorCode BwJointFieldLaw(void *ctx, PetscInt e, PetscInt k, const PetscRea
 
   PetscFunctionBeginUser;
   PetscCall(BwModelInterfaceLaw(f->model, k, &law, par));
+  if (f->extrapolate) {
+    /* IMPL-EX: linear in the jump, the committed state kept */
+    const PetscInt nt = ns * ns, nst = f->nst;
+    PetscReal      c[9]; /* ns x ns, ns <= 3 */
+    BwJointFieldElastic(f, k, c);
+    for (PetscInt p = 0, i = off; p < np; p++, i++) {
+      for (PetscInt a = 0; a < ns; a++) {
+        PetscReal jpl = f->committed[nst * i + BwJointFieldPlasticIndex[a]] + f->span * f->rate[ns * i + a];
+        stress[ns * p + a] = c[(ns + 1) * a] * (jump[ns * p + a] - jpl);
+      }
+      PetscCall(PetscArraycpy(f->tangent + nt * i, c, nt));
+      PetscCall(PetscArraycpy(f->trial + nst * i, f->committed + nst * i, nst));
+      f->mode[i] = f->committed_mode[i];
+    }
+    PetscCall(PetscArraycpy(f->stress + ns * off, stress, ns * np));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   law->kernel((int)ns, (int)np, par, f->committed + f->nst * off, jump, stress, f->tangent + ns * ns * off, f->trial + f->nst * off, f->mode + off, &status);
   if (status == BW_LAW_OK) PetscCall(PetscArraycpy(f->stress + ns * off, stress, ns * np));
+  if (status == BW_LAW_OK && f->measure) {
+    /* the implicit update of an extrapolated step: how far the stresses
+     * the step was solved with lie from the return mapping's */
+    const PetscInt nst = f->nst;
+    for (PetscInt p = 0, i = off; p < np; p++, i++) {
+      PetscReal d = 0, r = 0;
+      for (PetscInt a = 0; a < ns; a++) {
+        PetscReal ka = a == 1 ? par[BW_LAW_PAR_KN] : par[BW_LAW_PAR_KT];
+        PetscReal jpl = f->committed[nst * i + BwJointFieldPlasticIndex[a]] + f->span * f->rate[ns * i + a];
+        PetscReal rx = ka * (jump[ns * p + a] - jpl);
+        d += (stress[ns * p + a] - rx) * (stress[ns * p + a] - rx) / ka;
+        r += stress[ns * p + a] * stress[ns * p + a] / ka;
+      }
+      /* against the portion's own stress or strength (a crack's error is
+       * measured on its tensile strength, not on the crushing stress at
+       * the toe), at least 1 % of the largest of the last measure */
+      {
+        /* the smaller of its strengths (a large cohesion that only keeps
+         * a joint from sliding does not hide its cracking's error) */
+        PetscReal sft = par[BW_LAW_PAR_FT] / PetscSqrtReal(par[BW_LAW_PAR_KN]), sc = par[BW_LAW_PAR_C] / PetscSqrtReal(par[BW_LAW_PAR_KT]);
+        PetscReal strength = sft > 0 && sc > 0 ? PetscMin(sft, sc) : PetscMax(sft, sc);
+        r = PetscMax(PetscSqrtReal(r), strength);
+      }
+      f->err_scale = PetscMax(f->err_scale, r);
+      r            = PetscMax(r, 0.01 * f->err_scale_last);
+      if (r > 0) {
+        PetscBool resting = PETSC_TRUE; /* no flow extrapolated: it starts to flow in this step, if at all */
+        for (PetscInt a = 0; a < ns; a++) resting = (PetscBool)(resting && f->rate[ns * i + a] == 0);
+        f->err_diff = PetscMax(f->err_diff, PetscSqrtReal(d) / r);
+        if (resting) f->err_new = PetscMax(f->err_new, PetscSqrtReal(d) / r);
+      }
+    }
+  }
   if (status != BW_LAW_OK) {
     /* a finite stand-in keeps the residual evaluable; the step fails */
     if (!f->nfailed) {
@@ -136,7 +196,7 @@ PetscErrorCode BwJointFieldGetTangents(BwJointField f, PetscBool committed, cons
   PetscInt nt = f->ns * f->ns;
 
   PetscFunctionBeginUser;
-  if (committed) {
+  if (committed && !f->extrapolate) {
     *tangent = f->committed_tangent;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
@@ -146,6 +206,13 @@ PetscErrorCode BwJointFieldGetTangents(BwJointField f, PetscBool committed, cons
    * portion enters the Newton matrix with its elastic stiffness instead (a
    * secant bound on both sides): the iteration stays a descent for it and
    * converges, linearly in that portion, quadratically elsewhere. */
+  if (f->extrapolate) {
+    /* IMPL-EX: the elastic stiffness everywhere, the same matrix every step */
+    for (PetscInt e = 0; e < f->nown; e++)
+      for (PetscInt i = f->poff[e]; i < f->poff[e + 1]; i++) BwJointFieldElastic(f, f->own[e], f->newton_tangent + nt * i);
+    *tangent = f->newton_tangent;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCall(PetscArraycpy(f->newton_tangent, f->tangent, nt * f->poff[f->nown]));
   for (PetscInt e = 0; e < f->nown; e++)
     for (PetscInt i = f->poff[e]; i < f->poff[e + 1]; i++)
@@ -168,6 +235,13 @@ PetscErrorCode BwJointFieldCommit(BwJointField f)
   PetscInt n = f->poff[f->nown];
 
   PetscFunctionBeginUser;
+  if (f->span > 0) {
+    /* an IMPL-EX step: its plastic increment per unit span, for the next */
+    const PetscInt ns = f->ns, nst = f->nst;
+    for (PetscInt i = 0; i < n; i++)
+      for (PetscInt a = 0; a < ns; a++) f->rate[ns * i + a] = (f->trial[nst * i + BwJointFieldPlasticIndex[a]] - f->committed[nst * i + BwJointFieldPlasticIndex[a]]) / f->span;
+    f->span = 0;
+  }
   PetscCall(PetscArraycpy(f->committed, f->trial, f->nst * n));
   PetscCall(PetscArraycpy(f->committed_mode, f->mode, n));
   PetscCall(PetscArraycpy(f->committed_tangent, f->tangent, f->ns * f->ns * n));
@@ -176,8 +250,8 @@ PetscErrorCode BwJointFieldCommit(BwJointField f)
 
 PetscErrorCode BwJointFieldPlasticWork(BwJointField f, PetscReal *work)
 {
-  static const PetscInt jpl[3] = {BW_LAW_STATE_SLIP, BW_LAW_STATE_OPENING, BW_LAW_STATE_SLIP_B};
-  PetscReal             loc = 0;
+  const PetscInt *jpl = BwJointFieldPlasticIndex;
+  PetscReal       loc = 0;
   const PetscInt        ns = f->ns, nst = f->nst;
 
   PetscFunctionBeginUser;
@@ -255,3 +329,46 @@ PetscErrorCode BwJointFieldModeChanges(BwJointField f, PetscBool first, PetscInt
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+
+PetscErrorCode BwJointFieldSetExtrapolation(BwJointField f, PetscBool on, PetscReal span)
+{
+  PetscFunctionBeginUser;
+  if (!f->rate) PetscCall(PetscCalloc1(f->ns * f->poff[f->nown] + 1, &f->rate));
+  PetscCheck(!on || span > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "an extrapolated step needs a span > 0");
+  f->extrapolate = on;
+  f->measure     = PETSC_FALSE;
+  f->span        = on ? span : 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointFieldMeasureExtrapolation(BwJointField f)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(f->extrapolate && f->span > 0, f->comm, PETSC_ERR_ORDER, "the implicit update follows an extrapolated solve");
+  f->extrapolate = PETSC_FALSE;
+  f->measure     = PETSC_TRUE;
+  f->err_diff    = 0;
+  f->err_scale   = 0;
+  f->err_new     = 0;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointFieldExtrapolationError(BwJointField f, PetscReal *error, PetscReal *error_new)
+{
+  PetscReal loc[3] = {f->err_diff, f->err_scale, f->err_new}, all[3];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPIU_Allreduce(loc, all, 3, MPIU_REAL, MPIU_MAX, f->comm));
+  *error            = all[0];
+  *error_new        = all[2];
+  f->err_scale_last = all[1];
+  f->measure = PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwJointFieldResetRates(BwJointField f)
+{
+  PetscFunctionBeginUser;
+  if (f->rate) PetscCall(PetscArrayzero(f->rate, f->ns * f->poff[f->nown]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

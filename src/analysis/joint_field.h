@@ -61,3 +61,30 @@ PetscErrorCode BwJointFieldBeginStep(BwJointField field);
 /* Portions whose mode differs from the last call's (collective): how much
  * the active sets still move between Newton iterations. */
 PetscErrorCode BwJointFieldModeChanges(BwJointField field, PetscBool first, PetscInt *changes);
+
+/* IMPL-EX (Oliver, Huespe & Cante 2008): a step whose laws are linear.
+ * With extrapolation on, every portion answers r = C (j - jpl~), jpl~ =
+ * jpl_n + span * rate, rate the plastic jump's increment per unit of the
+ * path parameter over the last committed step, with the elastic tangent C
+ * and its committed state unchanged: no portion chooses a mode inside the
+ * step, so the step is one linear solve whose answer is a continuous
+ * function of its data (round-off cannot pick a branch). With it off the
+ * laws return-map again; an evaluation then (BwJointFieldExtrapolationError)
+ * is the step's implicit update: the state committed, and the difference
+ * between its stresses and the extrapolated ones, the step's error.
+ * span: the step's increment of the path parameter (> 0). */
+PetscErrorCode BwJointFieldSetExtrapolation(BwJointField field, PetscBool on, PetscReal span);
+/* Before the implicit evaluation that follows an extrapolated solve: the
+ * next evaluation also measures, per portion, |C^-1/2 (r - r~)| against
+ * the portion's own |C^-1/2 r| or strength (ft, c), at least 1 % of the
+ * largest |C^-1/2 r| of the last measure; r the return mapping's stress,
+ * r~ the extrapolated one at the same jumps. The get (collective) gives the
+ * largest over all portions, and over those that had no flow to
+ * extrapolate (error_new: a portion that starts to flow in the step
+ * overshoots its strength by what the step's length decides; the others'
+ * error also carries the last step's correction, which a shorter step does
+ * not remove). */
+PetscErrorCode BwJointFieldMeasureExtrapolation(BwJointField field);
+PetscErrorCode BwJointFieldExtrapolationError(BwJointField field, PetscReal *error, PetscReal *error_new);
+/* Forget the rates (the next extrapolated step starts with no flow). */
+PetscErrorCode BwJointFieldResetRates(BwJointField field);

@@ -28,6 +28,7 @@ struct _n_BwNewton {
   Vec          g, e, dx3; /* e: the monitor's unit vector; dx3 = K'^-1 e */
   PetscReal    step_work, step_dissipation, last_dlambda, lambda_trial, gross_work;
   PetscReal    step_plastic; /* the portions' own plastic work of the last converged solve (BwJointFieldPlasticWork) */
+  PetscReal    lambda_solved; /* lambda of the last converged solve */
 };
 
 PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton)
@@ -511,8 +512,9 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     failed = tfailed;
   }
   if (*converged) {
-    nw->lambda_trial = lam - lam0;
-    *lambda          = lam;
+    nw->lambda_trial  = lam - lam0;
+    nw->lambda_solved = lam;
+    *lambda           = lam;
     PetscCall(BwNewtonEnergy(nw, nw->xn, lam0, lam, PETSC_FALSE, &nw->step_work, &nw->step_dissipation, NULL));
     nw->step_work = nw->gross_work;
     PetscCall(BwJointFieldPlasticWork(nw->field, &nw->step_plastic));
@@ -546,6 +548,27 @@ PetscErrorCode BwNewtonGetStepPlasticWork(BwNewton nw, PetscReal *plastic)
 {
   PetscFunctionBeginUser;
   *plastic = nw->step_plastic;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonSetExtrapolation(BwNewton nw, PetscBool on, PetscReal span)
+{
+  PetscFunctionBeginUser;
+  PetscCall(BwJointFieldSetExtrapolation(nw->field, on, span));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwNewtonImplicitUpdate(BwNewton nw, PetscReal *error, PetscReal *error_new, PetscReal *residual, PetscBool *ok)
+{
+  PetscBool failed;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwJointFieldMeasureExtrapolation(nw->field));
+  PetscCall(BwNewtonResidual(nw, nw->xn, 1.0, nw->lambda_solved, nw->Ft, residual, &failed));
+  PetscCall(BwJointFieldExtrapolationError(nw->field, error, error_new));
+  *ok = failed ? PETSC_FALSE : PETSC_TRUE;
+  if (failed) PetscCall(BwJointFieldFailed(nw->field, &failed, nw->reason, sizeof(nw->reason)));
+  else PetscCall(BwJointFieldPlasticWork(nw->field, &nw->step_plastic));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

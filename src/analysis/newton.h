@@ -66,6 +66,16 @@ PetscErrorCode BwNewtonGetStepPlasticWork(BwNewton nw, PetscReal *plastic);
  * (down to min_step) and lengthened again after successes; each converged
  * part is committed. *substeps: how many it took. */
 PetscErrorCode BwNewtonRamp(BwNewton newton, PetscReal min_step, PetscInt *substeps, PetscBool *converged);
+/* IMPL-EX steps (joint_field.h, BwJointFieldSetExtrapolation): with `on`,
+ * the next solves see every law extrapolated over `span` of the path
+ * parameter, linear with the elastic tangent, so BwNewtonSolve converges in
+ * one iteration on a matrix that does not change from step to step;
+ * BwNewtonImplicitUpdate then return-maps every portion at the solved jumps
+ * (the state BwNewtonCommit accepts, whose plastic increment gives the next
+ * step's rates) and gives the step's errors (BwJointFieldExtrapolationError), and the
+ * true residual of the mixed system with the return-mapped stresses. */
+PetscErrorCode BwNewtonSetExtrapolation(BwNewton newton, PetscBool on, PetscReal span);
+PetscErrorCode BwNewtonImplicitUpdate(BwNewton newton, PetscReal *error, PetscReal *error_new, PetscReal *residual, PetscBool *ok);
 /* Accept the last converged solve as the state further steps start from. */
 PetscErrorCode BwNewtonCommit(BwNewton newton);
 /* The last solve: iterations, relative true residual, the reason it failed. */

@@ -44,8 +44,25 @@
  * iterations; which runs stop depends on round-off (bench/results.md). */
 #define BW_PUSHOVER_HOLD 4
 
+/* IMPL-EX: `steps` sets its largest increment (one nominal increment of
+ * the monitor, also under dissipation control, whose energy steps aim at
+ * two: an IMPL-EX step's error grows with its length, and its steps cost a
+ * solve each on a kept factor); cut steps add to them, up to this many
+ * times `steps` in all. */
+#define BW_PUSHOVER_IMPLEX_MOST 20
+#define BW_PUSHOVER_IMPLEX_SHORTEST 16
+
 typedef enum { BW_CONTROL_LOAD = 0, BW_CONTROL_DISPLACEMENT = 1, BW_CONTROL_DISSIPATION = 2 } BwControl;
 static const char *const BwControls[] = {"load", "displacement", "dissipation"};
+
+/* The solution scheme of the steps: Newton with the consistent tangent;
+ * IMPL-EX (joint_field.h), every step one linear solve on the elastic
+ * matrix with the plastic jumps extrapolated, cut where its error exceeds
+ * implex_tolerance; auto, Newton until dissipation control can follow the
+ * path no further (a stall where many portions swap between softening and
+ * unloading), then IMPL-EX from that converged state to the end. */
+typedef enum { BW_SCHEME_AUTO = 0, BW_SCHEME_NEWTON = 1, BW_SCHEME_IMPLEX = 2 } BwScheme;
+static const char *const BwSchemes[] = {"auto", "newton", "implex"};
 
 typedef struct {
   BwControl  control;
@@ -57,6 +74,8 @@ typedef struct {
   PetscInt   steps, max_iterations;
   PetscInt   every; /* output.steps: 0 last, 1 all, N every N-th */
   PetscBool  stop_on_reversal; /* analysis.pushover.on_reversal: stop (default) | continue */
+  BwScheme   scheme;           /* analysis.pushover.scheme */
+  PetscReal  implex_tolerance; /* IMPL-EX: the largest error a step keeps (above it the step is cut) */
 } BwPushover;
 
 /* The first converged step past the peak whose lambda has the other sign
@@ -88,7 +107,7 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
   PetscCall(BwAnalysisSolverForJoints(p));
   PetscCall(BwSolverSetExpectedSolves(p->solver, 100));
   PetscCall(BwSceneHelpSection(p->scene, "Pushover (scene key analysis.pushover.*)"));
-  PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover", "loads, body_force, control, monitor, target, steps, min_step, tolerance, max_iterations, dissipation_step, on_reversal"));
+  PetscCall(BwSceneRequireMapping(p->scene, "-analysis_pushover", "loads, body_force, control, monitor, target, steps, min_step, tolerance, max_iterations, dissipation_step, on_reversal, scheme, implex_tolerance"));
   /* the pattern */
   for (PetscInt c = 0; c < nd; c++) {
     PetscCall(PetscStrlcat(doflist, c ? (c == nd - 1 ? " or " : ", ") : "", sizeof(doflist)));
@@ -122,6 +141,14 @@ static PetscErrorCode BwPushoverSetFromOptions(BwAnalysis a, BwProblem *p)
     PetscCall(BwSceneEnum(p->scene, "-analysis_pushover_on_reversal", "Past the peak, a load factor of the other sign than its largest means the assembly no longer carries the held loads (collapse): stop there (default) or continue to the target or the most steps", 2, on_reversal, &choice, NULL));
     po->stop_on_reversal = choice == 0 ? PETSC_TRUE : PETSC_FALSE;
   }
+  {
+    PetscInt choice = 0;
+    PetscCall(BwSceneEnum(p->scene, "-analysis_pushover_scheme", "auto (Newton; under dissipation control IMPL-EX from where Newton can follow the path no further), newton (the consistent tangent throughout) or implex (each step one linear solve with the plastic jumps extrapolated: no portion chooses a mode inside a step)", 3, BwSchemes, &choice, NULL));
+    po->scheme = (BwScheme)choice;
+  }
+  po->implex_tolerance = 0.2;
+  PetscCall(BwSceneReal(p->scene, "-analysis_pushover_implex_tolerance", "IMPL-EX: the largest error a step keeps, a portion's stress against the return mapping's relative to the largest stress (cut below it, down to min_step)", &po->implex_tolerance, NULL));
+  if (!(po->implex_tolerance > 0 && po->implex_tolerance < 1)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_implex_tolerance", "must be in (0, 1), got %g", (double)po->implex_tolerance));
   po->dissipation_step = 0;
   PetscCall(BwSceneReal(p->scene, "-analysis_pushover_dissipation_step", "control: dissipation: the energy dissipated per step at first [J] (adapted to Newton's iterations); default: what the first dissipating step dissipated", &po->dissipation_step, &given));
   if (given && !(po->dissipation_step > 0)) PetscCall(BwSceneError(p->scene, "-analysis_pushover_dissipation_step", "must be > 0 [J], got %g", (double)po->dissipation_step));
@@ -280,12 +307,103 @@ static PetscErrorCode BwPushoverWriteStep(BwProblem *p, BwNewton nw, BwOutputFil
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, BwOutputFile of, BwHistory *h, PetscReal *lambda_out, char stop[], size_t len)
+/* What the IMPL-EX steps did: the first step they made (-1: none), how
+ * many were kept and cut, the largest error kept, the largest true
+ * residual of the mixed system with the return-mapped stresses. */
+typedef struct {
+  PetscInt  from_step, steps, rejected;
+  PetscReal error_max, residual_max;
+  char      why[512]; /* auto: why Newton handed over */
+} BwImplexStats;
+
+/* IMPL-EX steps from the committed state to the target (joint_field.h):
+ * each step is one linear solve on the elastic matrix (its factor kept
+ * from step to step) under the control's constraint, with the portions'
+ * plastic jumps extrapolated from the last step's rates; then every
+ * portion is return-mapped at the solved jumps (the implicit update: the
+ * state committed, the rates of the next step), and the difference of the
+ * two stresses is the step's error. A step whose error exceeds
+ * implex_tolerance is cut (to 0.8 tol/error of itself, at least 0.1) down
+ * to min_step of an increment, where it is kept whatever its error; after
+ * a kept step the next grows or shrinks by 0.8 tol/error (0.25 to 2), up to
+ * one increment (two under dissipation control, like its energy steps).
+ * Nothing in a step is decided by an iteration, so the path is a
+ * continuous function of the data, round-off included, wherever the step
+ * sizes agree. Under dissipation control the monitor is prescribed (the
+ * energy constraint needs the iteration the scheme avoids): a snap-back
+ * shows as a drop of lambda within a step. */
+static PetscErrorCode BwPushoverImplexSteps(BwAnalysis a, BwProblem *p, BwNewton nw, BwOutputFile of, BwHistory *h, PetscReal mon0, PetscReal *lambda_io, PetscReal load[], BwImplexStats *st, char stop[], size_t len)
+{
+  BwPushover *po  = (BwPushover *)a->data;
+  PetscReal   inc = 1.0 / po->steps, dt = inc, lambda = *lambda_io, t;
+  PetscInt    cuts = 0;
+  const char *reason;
+
+  PetscFunctionBeginUser;
+  t = po->control == BW_CONTROL_LOAD ? lambda / po->target : (h->monitor[h->n - 1] - mon0) / (po->target - mon0);
+  if (st->from_step < 0) st->from_step = h->n;
+  while (t < 1 - 1e-12 && !stop[0]) {
+    PetscReal tn = PetscMin(1.0, t + dt), span, goal, lam = lambda, err = 0, err_new = 0, res_true = 0;
+    PetscBool ok;
+    if (1 - tn < 1e-9 * inc) tn = 1;
+    span = tn - t;
+    goal = po->control == BW_CONTROL_LOAD ? tn * po->target : mon0 + tn * (po->target - mon0);
+    if (po->control == BW_CONTROL_LOAD) lam = goal;
+    PetscCall(BwNewtonSetExtrapolation(nw, PETSC_TRUE, span));
+    PetscCall(BwNewtonSolve(nw, 1.0, &lam, po->control == BW_CONTROL_LOAD ? PETSC_FALSE : PETSC_TRUE, goal, &ok));
+    if (ok) PetscCall(BwNewtonImplicitUpdate(nw, &err, &err_new, &res_true, &ok));
+    if (!ok) {
+      PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
+      PetscCall(PetscSNPrintf(stop, len, "an IMPL-EX step from monitor = %.6g failed (%s)", (double)h->monitor[h->n - 1], reason));
+      break;
+    }
+    if ((err_new > po->implex_tolerance || (err > po->implex_tolerance && cuts < 2)) && span > po->min_step * inc * (1 + 1e-9)) {
+      /* portions that start to flow overshoot their strength by what the
+       * step's length decides: the step again, shorter, down to min_step.
+       * The error of portions that flow already also carries the last
+       * step's correction, which no shorter step removes: for them a step
+       * is cut twice at most (to at least 0.1 of itself each time) */
+      PetscReal e = err_new > po->implex_tolerance ? err_new : err;
+      st->rejected++;
+      cuts++;
+      dt = PetscMax(po->min_step * inc, span * PetscMax(0.1, 0.8 * po->implex_tolerance / e));
+      if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": IMPL-EX error %.3e (%.3e where portions start to flow), cut to %.3g of an increment\n", h->n, (double)err, (double)err_new, (double)(dt / inc)));
+      continue;
+    }
+    cuts = 0;
+    {
+      PetscInt  its, step = h->n;
+      PetscReal res, mon, work, dissipated;
+      PetscCall(BwNewtonCommit(nw));
+      PetscCall(BwNewtonGetResult(nw, &its, &res, NULL));
+      PetscCall(BwNewtonMonitorValue(nw, &mon));
+      PetscCall(BwNewtonGetStepEnergy(nw, &work, &dissipated));
+      lambda = lam;
+      t      = tn;
+      st->steps++;
+      st->error_max    = PetscMax(st->error_max, err);
+      st->residual_max = PetscMax(st->residual_max, res_true);
+      PetscCall(BwHistoryAdd(h, lambda, mon, its, res, dissipated));
+      if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": lambda %12.5e, monitor %12.5e, IMPL-EX error %.2e (residual with the return-mapped stresses %.1e), dissipated %.3e\n", step, (double)lambda, (double)mon, (double)err, (double)res_true, (double)dissipated));
+      if (po->every >= 1 && step % po->every == 0) PetscCall(BwPushoverWriteStep(p, nw, of, step, lambda, load));
+      if (step >= BW_PUSHOVER_IMPLEX_MOST * po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (%d x analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target: IMPL-EX cut its steps to min_step for its tolerance", BW_PUSHOVER_IMPLEX_MOST, BW_PUSHOVER_IMPLEX_MOST * po->steps));
+      if (po->stop_on_reversal && BwReversalStep(h->n, h->lambda) == step)
+        PetscCall(PetscSNPrintf(stop, len, "the load factor changed sign past its peak: lambda %.6g at step %" PetscInt_FMT ", the assembly no longer carries the held loads (collapse; analysis.pushover.on_reversal: continue goes on)", (double)lambda, step));
+      dt = PetscMin(inc, span * PetscMin(2.0, 0.8 * po->implex_tolerance / PetscMax(err, PETSC_SMALL)));
+      dt = PetscMax(dt, inc / BW_PUSHOVER_IMPLEX_SHORTEST);
+    }
+  }
+  PetscCall(BwNewtonSetExtrapolation(nw, PETSC_FALSE, 0));
+  *lambda_io = lambda;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, BwOutputFile of, BwHistory *h, PetscReal *lambda_out, BwImplexStats *ist, char stop[], size_t len)
 {
   BwPushover *po = (BwPushover *)a->data;
-  PetscReal   t = 0, inc = 1.0 / po->steps, hc = inc, lambda = 0, mon0, load_mon;
+  PetscReal   t = 0, inc = 1.0 / po->steps, hc = inc, lambda = 0, mon0 = 0, load_mon;
   PetscInt    good = 0, substeps, returns = 0, over = 0, hold = 0;
-  PetscBool   ok, dissipating = PETSC_FALSE;
+  PetscBool   ok, dissipating = PETSC_FALSE, implex = po->scheme == BW_SCHEME_IMPLEX ? PETSC_TRUE : PETSC_FALSE;
   PetscReal   tau_failed = 0;
   PetscReal   tau = po->dissipation_step, tau_min = 0, tau_max = 0, totalwork = 0;
   /* the path length of a step, ds = sqrt(dmon^2 + (dlambda/k0)^2), with k0
@@ -294,7 +412,7 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
    * dissipation_step does not fix the energy per step */
   PetscReal   k0 = 0, du = PetscAbsReal(po->target) / po->steps;
   PetscReal  *load;
-  const char *reason;
+  const char *reason = "";
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(p->model->nd * p->geom->nblocks + 1, &load));
@@ -323,8 +441,9 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
   du = 2 * PetscAbsReal(po->target - mon0) / po->steps;
 
   while (t < 1 - 1e-12 && !stop[0]) {
-    PetscReal tn, lam = lambda, goal, work = 0, dissipated = 0, plastic = 0;
+    PetscReal tn = t, lam = lambda, goal, work = 0, dissipated = 0, plastic = 0;
     PetscBool by_energy = po->control == BW_CONTROL_DISSIPATION && dissipating ? PETSC_TRUE : PETSC_FALSE;
+    if (implex) break; /* IMPL-EX from here (below) */
     if (by_energy) PetscCall(BwNewtonSolveDissipation(nw, &lam, tau, &ok));
     else {
       if (po->control == BW_CONTROL_DISSIPATION) t = (h->monitor[h->n - 1] - mon0) / (po->target - mon0); /* from where energy control left it */
@@ -450,7 +569,10 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
         tau         = 2 * tau_min / po->min_step;
         hc          = inc;
         good        = 0;
-        if (++returns > 2) PetscCall(PetscSNPrintf(stop, len, "no converged state beyond monitor = %.6g under energy or displacement control (last failure: %s)", (double)h->monitor[h->n - 1], reason));
+        if (++returns > 2) {
+          if (po->scheme == BW_SCHEME_AUTO) implex = PETSC_TRUE;
+          else PetscCall(PetscSNPrintf(stop, len, "no converged state beyond monitor = %.6g under energy or displacement control (last failure: %s)", (double)h->monitor[h->n - 1], reason));
+        }
       }
     } else {
       PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
@@ -467,13 +589,20 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
           tau_max = tau;
           hc      = inc;
           if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  displacement control cannot go on: energy control from here, %.3e J per step\n", (double)tau));
-        } else if (po->control == BW_CONTROL_LOAD)
+        } else if (po->control == BW_CONTROL_DISSIPATION && po->scheme == BW_SCHEME_AUTO) implex = PETSC_TRUE;
+        else if (po->control == BW_CONTROL_LOAD)
           PetscCall(PetscSNPrintf(stop, len, "collapse: no equilibrium beyond lambda = %.6g even with steps of %g of an increment (last failure: %s)", (double)lambda, (double)po->min_step, reason));
         else
           PetscCall(PetscSNPrintf(stop, len, "no converged state beyond monitor = %.6g even with steps of %g of an increment: the end of what displacement control can follow (last failure: %s)", (double)h->monitor[h->n - 1], (double)po->min_step, reason));
       }
     }
     if (ok) totalwork += work;
+  }
+  if (implex && !stop[0]) {
+    /* IMPL-EX from here: asked for, or Newton could follow the path no further */
+    if (p->log->verbose && po->scheme == BW_SCHEME_AUTO) PetscCall(PetscPrintf(p->comm, "  Newton can follow the path no further (%s): IMPL-EX from step %" PetscInt_FMT "\n", reason, h->n));
+    if (po->scheme == BW_SCHEME_AUTO) PetscCall(PetscSNPrintf(ist->why, sizeof(ist->why), "%s", reason));
+    PetscCall(BwPushoverImplexSteps(a, p, nw, of, h, mon0, &lambda, load, ist, stop, len));
   }
   if (!stop[0]) PetscCall(PetscSNPrintf(stop, len, "target reached"));
   /* the last step is always written when steps are */
@@ -500,6 +629,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   BwReport       report;
   BwCapacity     cap;
   Vec            x, b;
+  BwImplexStats  ist = {-1, 0, 0, 0, 0, ""};
 
   PetscFunctionBeginUser;
   PetscCall(BwSceneGetText(p->scene, &text));
@@ -511,7 +641,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   nsteps_planned = po->every == 0 ? 1 : po->steps / po->every + 2;
   PetscCall(BwOutputOpen(p->output, p->output->file, p->mixed, text, nsteps_planned, &of));
   PetscCall(BwLogBegin(p->log, BW_PHASE_SOLVE));
-  ierr = BwPushoverSteps(a, p, nw, of, &h, &lambda, stop, sizeof(stop));
+  ierr = BwPushoverSteps(a, p, nw, of, &h, &lambda, &ist, stop, sizeof(stop));
   PetscCall(BwLogEnd(p->log, BW_PHASE_SOLVE));
   if (ierr) {
     PetscCall(BwOutputAbort(&of));
@@ -576,6 +706,20 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(BwReportReal(report, "bilinear_yield_displacement", cap.yield_displacement));
   PetscCall(BwReportReal(report, "ductility", cap.ductility));
   PetscCall(BwReportString(report, "control", BwControls[po->control]));
+  {
+    /* the scheme the steps were made with: newton, implex, or newton then
+     * implex (auto) from the step where Newton handed over */
+    char scheme[64];
+    if (ist.from_step < 0) PetscCall(PetscStrncpy(scheme, "newton", sizeof(scheme)));
+    else if (ist.from_step <= 1) PetscCall(PetscStrncpy(scheme, "implex", sizeof(scheme)));
+    else PetscCall(PetscStrncpy(scheme, "newton+implex", sizeof(scheme)));
+    PetscCall(BwReportString(report, "scheme", scheme));
+    PetscCall(BwReportInt(report, "implex_from_step", ist.from_step));
+    PetscCall(BwReportInt(report, "implex_steps", ist.steps));
+    PetscCall(BwReportInt(report, "implex_cut_steps", ist.rejected));
+    PetscCall(BwReportReal(report, "implex_error_max", ist.error_max));
+    PetscCall(BwReportReal(report, "implex_residual_max", ist.residual_max));
+  }
   /* what a capacity curve's axes are labelled with: the monitor by name,
    * the load in the pattern's units (|sum of the pattern's forces| in N) */
   PetscCall(BwReportString(report, "monitor_set", po->monitor_set));
@@ -609,6 +753,10 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(PetscPrintf(p->comm, "  steps %" PetscInt_FMT " (%" PetscInt_FMT " Newton iterations, %" PetscInt_FMT " linear solves); stop: %s\n", h.n, its, solves, stop));
   PetscCall(PetscPrintf(p->comm, "  peak load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); last: load factor %.6g, monitor %.6g\n", (double)peak, npeak, (double)peak_mon, (double)h.lambda[h.n - 1], (double)h.monitor[h.n - 1]));
   PetscCall(PetscPrintf(p->comm, "  first peak: load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); residual load factor %.6g (%.3g of the peak); dissipated %.6g J\n", (double)cap.first_peak_load_factor, cap.first_peak, (double)cap.first_peak_monitor, (double)cap.residual_load_factor, (double)(cap.residual_load_factor / peak), (double)cap.dissipated_energy));
+  if (ist.from_step >= 0) {
+    if (ist.from_step > 1) PetscCall(PetscPrintf(p->comm, "  scheme: Newton to step %" PetscInt_FMT ", then IMPL-EX (Newton could follow the path no further: %s)\n", ist.from_step - 1, ist.why));
+    PetscCall(PetscPrintf(p->comm, "  IMPL-EX: %" PetscInt_FMT " steps kept, %" PetscInt_FMT " cut; largest error kept %.3g (tolerance %g); largest residual with the return-mapped stresses %.3g\n", ist.steps, ist.rejected, (double)ist.error_max, (double)po->implex_tolerance, (double)ist.residual_max));
+  }
   if (reversal >= 0 && !po->stop_on_reversal) PetscCall(PetscPrintf(p->comm, "  warning: the load factor changed sign at step %" PetscInt_FMT " (monitor %.6g), past its peak: from there the pattern acts the other way (the softened joints no longer carry the constant loads, or a snap-back unloaded the wall), no pushover any more; /solver load_reversal_step\n", reversal, (double)h.monitor[reversal]));
   if (cap.note[0]) PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): %s; ultimate displacement %.6g\n", cap.note, (double)cap.ultimate_displacement));
   else PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): stiffness %.6g, yield load factor %.6g at %.6g, ultimate displacement %.6g, ductility %.3g\n", (double)cap.stiffness, (double)cap.yield_force, (double)cap.yield_displacement, (double)cap.ultimate_displacement, (double)cap.ductility));

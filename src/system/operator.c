@@ -851,6 +851,15 @@ PetscErrorCode BwMixedSetTangents(BwMixed mx, const PetscReal tangent[])
       PetscInt k = mx->own_interfaces[e], lp = BwLocalPortion(mx, k), np = BwPortionsCount(&mx->portions, k);
       if (first || memcmp(mx->tangent + ns * ns * lp, tangent + ns * ns * lp, sizeof(PetscReal) * ns * ns * np)) mx->tangent_changed[e] = PETSC_TRUE;
     }
+    {
+      /* nothing changed on any rank (IMPL-EX steps, a step's first
+       * iteration on the tangents it converged with): the matrix and its
+       * factor stand */
+      PetscBool any = PETSC_FALSE, all;
+      for (PetscInt e = 0; e < mx->nown_interfaces && !any; e++) any = mx->tangent_changed[e];
+      PetscCallMPI(MPIU_Allreduce(&any, &all, 1, MPIU_BOOL, MPI_LOR, mx->comm));
+      if (!all) PetscFunctionReturn(PETSC_SUCCESS);
+    }
     PetscCall(PetscArraycpy(mx->tangent, tangent, n));
     /* T = C^-1/2 C_t C^-1/2 once here: every product with K applies it */
     for (PetscInt e = 0; e < mx->nown_interfaces; e++) {

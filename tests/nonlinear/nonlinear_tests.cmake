@@ -37,3 +37,11 @@ bw_py_test(nonlinear.capacity nonlinear nonlinear/check_past_peak.py capacity)
 bw_py_test(nonlinear.same_curve_1 nonlinear nonlinear/check_controls.py same_curve 1)
 bw_py_test(nonlinear.same_curve_2 "nonlinear;mpi" nonlinear/check_controls.py same_curve 2)
 bw_py_test(nonlinear.wall_past_peak_2 "nonlinear;mpi" nonlinear/check_wall_past_peak.py 2)
+
+# The IMPL-EX scheme (issue 30): the sliding plateau exactly, a softening
+# crack within its tolerance and with its energy, the held-pull stack to its
+# reversal, 1 and 2 ranks alike (check_implex.py says each reference).
+foreach(case sliding softening reversal)
+  bw_py_test(nonlinear.implex.${case} nonlinear nonlinear/check_implex.py ${case})
+endforeach()
+bw_py_test(nonlinear.implex.ranks_2 "nonlinear;mpi" nonlinear/check_implex.py ranks 2)

@@ -1,0 +1,148 @@
+"""The IMPL-EX scheme (analysis.pushover.scheme: implex; issue 30) against
+closed forms and invariants. Every IMPL-EX step is one linear solve on the
+elastic matrix with the plastic jumps extrapolated from the last step, so
+its path is a continuous function of the data: these references hold on any
+CPU and BLAS to their stated tolerances.
+
+  sliding   a block on a cohesive-frictional joint (check_nonlinear.py's
+            `sliding` scene), displacement control: once it slides at a
+            steady rate the extrapolation is exact, so the plateau is
+            c A + N tan(phi) to 1e-9 (m = 2, 8, 32); the first sliding step
+            overshoots (the extrapolation starts from no flow) by less than
+            the tolerance's share; scheme "implex" in /solver, one linear
+            solve per step on one factorisation (Newton iterations = steps).
+  softening a joint pulled open through its exponential softening
+            (check_nonlinear.py's `softening`): the curve against the closed
+            form within the tolerance of ft A (0.2 and 0.05: the crack's
+            first step overshoots ft by what the tolerance allows, measured
+            on ft), the work of the pull against GfI A (1 - exp(-ft k1/GfI))
+            + the elastic energy to 1 %.
+  reversal  the stack under a held pull (check_past_peak.py's `exhausted`):
+            past its peak the pattern's load falls through zero where the
+            softened joint's stress is ft/2; by default the IMPL-EX run
+            stops at the first step with lambda <= 0 and says so, its peak
+            at ft A_w - P0 or above it by at most the tolerance's overshoot
+            (0.2 ft A_w).
+  ranks R   the 10-course wall of check_nonlinear.py's `ranks` on 1 and R
+            ranks: the same histories to 1e-8 (the steps of both runs are
+            chosen by the same continuous rule from their errors).
+"""
+import math
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "common"))
+from bwrun import Failure, expect, run  # noqa: E402
+import check_nonlinear as cn  # noqa: E402
+import check_past_peak as cp  # noqa: E402
+
+IMPLEX = ["-analysis_pushover_scheme", "implex"]
+
+
+def text(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def sliding():
+    c, tphi, N, A = 1.0e4, 0.75, 1000.0, 0.2 * 0.1
+    cap = c * A + N * tphi
+    with tempfile.TemporaryDirectory() as tmp:
+        for m in (2, 8, 32):
+            res, r = cn.pushover_block(tmp, m, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}", (1, 0, 0.055), "u1", 1e-4, extra_args=IMPLEX)
+            lam = r.history["load_factor"]
+            sol = res["solver"]
+            e = abs(lam[-1] - cap) / cap
+            expect(e <= 1e-9, f"m = {m}: plateau {lam[-1]:.12g}, c A + N tan(phi) = {cap:.12g} (relative {e:.2e})")
+            expect(text(sol["scheme"]) == "implex", f"m = {m}: /solver scheme {sol['scheme']!r}")
+            expect(text(sol["stop_reason"]) == "target reached", f"m = {m}: stop {sol['stop_reason']}")
+            tried = len(lam) - 1 + int(sol["implex_cut_steps"])
+            expect(int(sol["newton_iterations"]) == tried + int(r.history["iterations"][0]),
+                   f"m = {m}: {sol['newton_iterations']} Newton iterations for {tried} IMPL-EX solves (one each, cut ones included) and step 0")
+            over = (lam.max() - cap) / cap
+            expect(over <= 0.5, f"m = {m}: the first sliding step overshoots the capacity by {over:.2f}")
+            expect((r.state[0] >= 2).all(), f"m = {m}: not every portion is sliding at the end: {r.state[0]}")
+            print(f"m = {m:2d}: plateau {lam[-1]:.12g} = c A + N tan(phi) {cap:.12g} ({e:.1e}); first sliding step {over:.3f} above it; "
+                  f"{len(lam) - 1} steps, largest error {float(sol['implex_error_max']):.3f}")
+
+
+def softening():
+    ft, GfI, A, kn = 0.25e6, 18.0, 0.2 * 0.1, 1e11
+    u_end = 10 * GfI / ft
+    with tempfile.TemporaryDirectory() as tmp:
+        for tol in (0.2, 0.05):
+            res, r = cn.pushover_block(tmp, 4, 500, f"tension: {ft}, cohesion: 1.0e7, friction: 0.75, tension_energy: {GfI}", (0, 1, 0), "u2", u_end, N=0.0,
+                                       extra_args=IMPLEX + ["-analysis_pushover_implex_tolerance", str(tol)])
+            lam, u = r.history["load_factor"], r.history["monitor"]
+            work = float(np.sum(0.5 * (lam[1:] + lam[:-1]) * np.diff(u)))
+            k1 = u[-1] - lam[-1] / (kn * A)
+            want = GfI * A * (1 - math.exp(-ft * k1 / GfI)) + 0.5 * lam[-1] ** 2 / (kn * A)
+            ew = abs(work - want) / want
+            worst = 0.0
+            for lk, uk in zip(lam, u):
+                if uk <= ft / kn:
+                    sig = kn * uk
+                else:
+                    sig = ft
+                    for _ in range(100):
+                        g = sig - ft * math.exp(-ft * (uk - sig / kn) / GfI)
+                        dg = 1 - ft * math.exp(-ft * (uk - sig / kn) / GfI) * ft / (GfI * kn)
+                        sig -= g / dg
+                worst = max(worst, abs(lk - sig * A) / (ft * A))
+            expect(text(res["solver"]["stop_reason"]) == "target reached", f"tolerance {tol}: stop {res['solver']['stop_reason']}")
+            # the crack's first step overshoots ft by at most the tolerance
+            # (its error is measured on ft); past it the extrapolation
+            # follows the softening closely
+            expect(worst <= 1.05 * tol, f"tolerance {tol}: curve off the closed form by {worst:.3f} of ft A")
+            expect(ew <= 0.01, f"tolerance {tol}: work of the pull {work:.6g} J off GfI A (1 - exp(..)) + elastic {want:.6g} J by {ew:.2e}")
+            print(f"tolerance {tol}: {len(lam) - 1} steps; work {work:.6f} J against {want:.6f} J ({ew:.2e}); curve off the closed form by {worst:.3f} of ft A")
+
+
+def reversal():
+    p0 = 0.5 * cp.FT * cp.AW
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = cp.stack_scene(tmp, "displacement", None, target=1.0e-3, steps=400, pull=p0)
+        out = os.path.join(tmp, "out.h5")
+        run(scene, ["-output_file", out, *IMPLEX], 1)
+        hist, solver = cp.read_run(out)
+    lam = hist["load_factor"]
+    k = int(np.argmax(lam))
+    peak = cp.FT * cp.AW - p0
+    # the crack's first step overshoots ft by at most the tolerance (0.2 of ft A_w)
+    expect(-0.01 * peak <= lam[k] - peak <= 0.2 * cp.FT * cp.AW, f"peak lambda {lam[k]:.6e}, ft A_w - P0 = {peak:.6e}")
+    expect(len(lam) > 2 and lam[-1] <= 0 and (lam[1:-1] > 0).all(), f"the run did not end at the first lambda <= 0: last {lam[-2:]}")
+    expect("changed sign" in solver["stop_reason"], f"stop_reason {solver['stop_reason']!r} does not name the sign change")
+    expect(int(solver["load_reversal_step"]) == len(lam) - 1, f"load_reversal_step {solver['load_reversal_step']}, last step {len(lam) - 1}")
+    print(f"peak {lam[k]:.6e} (ft A_w - P0 = {peak:.6e}); lambda <= 0 at step {len(lam) - 1}, monitor {hist['monitor'][-1]:.4e}: {solver['stop_reason'][:60]}")
+
+
+def ranks(n):
+    hist = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for p in (1, n):
+            res, r = cn.solve(tmp, cn.WALL, IMPLEX, ranks=p)
+            hist.append(r.history)
+            expect(text(res["solver"]["scheme"]) == "implex", f"{p} ranks: scheme {res['solver']['scheme']!r}")
+    a, b = hist
+    expect(len(a["load_factor"]) == len(b["load_factor"]), f"1 rank: {len(a['load_factor'])} steps, {n} ranks: {len(b['load_factor'])}")
+    e = max(cn.rel_err(a[k], b[k]) for k in ("load_factor", "monitor"))
+    expect(e <= 1e-8, f"IMPL-EX pushover on 1 and {n} ranks differs by {e:.2e}")
+    peak = a["load_factor"].max()
+    expect(a["load_factor"][-1] < peak, "the wall did not pass its peak")
+    print(f"1 and {n} ranks: {len(a['load_factor'])} steps, histories equal to {e:.1e}; peak {peak:.1f} N")
+
+
+if __name__ == "__main__":
+    try:
+        case = sys.argv[1]
+        if case == "ranks":
+            ranks(int(sys.argv[2]))
+        else:
+            globals()[case]()
+    except Failure as e:
+        print(f"FAILED: {e}")
+        sys.exit(1)
