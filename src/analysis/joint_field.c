@@ -25,7 +25,7 @@ struct _n_BwJointField {
    * the measure of the implicit update (largest |C^-1/2 dr|, |C^-1/2 r|) */
   PetscReal      *rate, span;
   PetscBool       extrapolate, measure;
-  PetscReal       err_diff, err_scale, err_scale_last, err_new;
+  PetscReal       err_diff, err_scale, err_scale_last;
 };
 
 static const PetscInt BwJointFieldPlasticIndex[3] = {BW_LAW_STATE_SLIP, BW_LAW_STATE_OPENING, BW_LAW_STATE_SLIP_B};
@@ -151,12 +151,7 @@ PetscErrorCode BwJointFieldLaw(void *ctx, PetscInt e, PetscInt k, const PetscRea
       }
       f->err_scale = PetscMax(f->err_scale, r);
       r            = PetscMax(r, 0.01 * f->err_scale_last);
-      if (r > 0) {
-        PetscBool resting = PETSC_TRUE; /* no flow extrapolated: it starts to flow in this step, if at all */
-        for (PetscInt a = 0; a < ns; a++) resting = (PetscBool)(resting && f->rate[ns * i + a] == 0);
-        f->err_diff = PetscMax(f->err_diff, PetscSqrtReal(d) / r);
-        if (resting) f->err_new = PetscMax(f->err_new, PetscSqrtReal(d) / r);
-      }
+      if (r > 0) f->err_diff = PetscMax(f->err_diff, PetscSqrtReal(d) / r);
     }
   }
   if (status != BW_LAW_OK) {
@@ -349,18 +344,16 @@ PetscErrorCode BwJointFieldMeasureExtrapolation(BwJointField f)
   f->measure     = PETSC_TRUE;
   f->err_diff    = 0;
   f->err_scale   = 0;
-  f->err_new     = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwJointFieldExtrapolationError(BwJointField f, PetscReal *error, PetscReal *error_new)
+PetscErrorCode BwJointFieldExtrapolationError(BwJointField f, PetscReal *error)
 {
-  PetscReal loc[3] = {f->err_diff, f->err_scale, f->err_new}, all[3];
+  PetscReal loc[2] = {f->err_diff, f->err_scale}, all[2];
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPIU_Allreduce(loc, all, 3, MPIU_REAL, MPIU_MAX, f->comm));
+  PetscCallMPI(MPIU_Allreduce(loc, all, 2, MPIU_REAL, MPIU_MAX, f->comm));
   *error            = all[0];
-  *error_new        = all[2];
   f->err_scale_last = all[1];
   f->measure = PETSC_FALSE;
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -79,12 +79,8 @@ PetscErrorCode BwJointFieldSetExtrapolation(BwJointField field, PetscBool on, Pe
  * the portion's own |C^-1/2 r| or strength (ft, c), at least 1 % of the
  * largest |C^-1/2 r| of the last measure; r the return mapping's stress,
  * r~ the extrapolated one at the same jumps. The get (collective) gives the
- * largest over all portions, and over those that had no flow to
- * extrapolate (error_new: a portion that starts to flow in the step
- * overshoots its strength by what the step's length decides; the others'
- * error also carries the last step's correction, which a shorter step does
- * not remove). */
+ * largest over all portions. */
 PetscErrorCode BwJointFieldMeasureExtrapolation(BwJointField field);
-PetscErrorCode BwJointFieldExtrapolationError(BwJointField field, PetscReal *error, PetscReal *error_new);
+PetscErrorCode BwJointFieldExtrapolationError(BwJointField field, PetscReal *error);
 /* Forget the rates (the next extrapolated step starts with no flow). */
 PetscErrorCode BwJointFieldResetRates(BwJointField field);

@@ -558,14 +558,14 @@ PetscErrorCode BwNewtonSetExtrapolation(BwNewton nw, PetscBool on, PetscReal spa
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwNewtonImplicitUpdate(BwNewton nw, PetscReal *error, PetscReal *error_new, PetscReal *residual, PetscBool *ok)
+PetscErrorCode BwNewtonImplicitUpdate(BwNewton nw, PetscReal *error, PetscReal *residual, PetscBool *ok)
 {
   PetscBool failed;
 
   PetscFunctionBeginUser;
   PetscCall(BwJointFieldMeasureExtrapolation(nw->field));
   PetscCall(BwNewtonResidual(nw, nw->xn, 1.0, nw->lambda_solved, nw->Ft, residual, &failed));
-  PetscCall(BwJointFieldExtrapolationError(nw->field, error, error_new));
+  PetscCall(BwJointFieldExtrapolationError(nw->field, error));
   *ok = failed ? PETSC_FALSE : PETSC_TRUE;
   if (failed) PetscCall(BwJointFieldFailed(nw->field, &failed, nw->reason, sizeof(nw->reason)));
   else PetscCall(BwJointFieldPlasticWork(nw->field, &nw->step_plastic));

@@ -75,7 +75,7 @@ PetscErrorCode BwNewtonRamp(BwNewton newton, PetscReal min_step, PetscInt *subst
  * step's rates) and gives the step's errors (BwJointFieldExtrapolationError), and the
  * true residual of the mixed system with the return-mapped stresses. */
 PetscErrorCode BwNewtonSetExtrapolation(BwNewton newton, PetscBool on, PetscReal span);
-PetscErrorCode BwNewtonImplicitUpdate(BwNewton newton, PetscReal *error, PetscReal *error_new, PetscReal *residual, PetscBool *ok);
+PetscErrorCode BwNewtonImplicitUpdate(BwNewton newton, PetscReal *error, PetscReal *residual, PetscBool *ok);
 /* Accept the last converged solve as the state further steps start from. */
 PetscErrorCode BwNewtonCommit(BwNewton newton);
 /* The last solve: iterations, relative true residual, the reason it failed. */

@@ -24,8 +24,11 @@ CPU and BLAS to their stated tolerances.
             at ft A_w - P0 or above it by at most the tolerance's overshoot
             (0.2 ft A_w).
   ranks R   the 10-course wall of check_nonlinear.py's `ranks` on 1 and R
-            ranks: the same histories to 1e-8 (the steps of both runs are
-            chosen by the same continuous rule from their errors).
+            ranks: the same steps to 1e-10 up to half the peak; past it the
+            curves at the same monitor values within 2 % of the peak (a
+            softening wall's path amplifies round-off where its cracks
+            localise, whatever the scheme: measured 8e-10 at tolerance 0.2,
+            1e-2 at 0.05).
 """
 import math
 import os
@@ -127,13 +130,30 @@ def ranks(n):
             res, r = cn.solve(tmp, cn.WALL, IMPLEX, ranks=p)
             hist.append(r.history)
             expect(text(res["solver"]["scheme"]) == "implex", f"{p} ranks: scheme {res['solver']['scheme']!r}")
+            expect(text(res["solver"]["stop_reason"]) == "target reached", f"{p} ranks: stop {res['solver']['stop_reason']}")
     a, b = hist
-    expect(len(a["load_factor"]) == len(b["load_factor"]), f"1 rank: {len(a['load_factor'])} steps, {n} ranks: {len(b['load_factor'])}")
-    e = max(cn.rel_err(a[k], b[k]) for k in ("load_factor", "monitor"))
-    expect(e <= 1e-8, f"IMPL-EX pushover on 1 and {n} ranks differs by {e:.2e}")
     peak = a["load_factor"].max()
     expect(a["load_factor"][-1] < peak, "the wall did not pass its peak")
-    print(f"1 and {n} ranks: {len(a['load_factor'])} steps, histories equal to {e:.1e}; peak {peak:.1f} N")
+    # up to half the peak the two runs make the same steps (the first
+    # cracks' cuts included) to round-off
+    m = min(len(a["load_factor"]), len(b["load_factor"]))
+    early = np.nonzero((a["load_factor"][:m] <= 0.5 * peak) & (b["load_factor"][:m] <= 0.5 * peak))[0]
+    early = early[early == np.arange(len(early))]
+    e0 = max(cn.rel_err(a[k][:len(early)], b[k][:len(early)]) for k in ("load_factor", "monitor"))
+    expect(len(early) >= 3 and e0 <= 1e-10, f"the first {len(early)} steps on 1 and {n} ranks differ by {e0:.2e}")
+    # past the first cracks the path of a softening wall amplifies
+    # round-off (where cracks localise, a perturbation grows from step to
+    # step: measured 8e-10 at tolerance 0.2 and 1e-2 at 0.05 between 1 and
+    # 2 ranks, whose sums differ in order), and a cut decided the other way
+    # shifts the steps: the curves are compared at the same monitor values,
+    # against the peak
+    pts = np.linspace(0.1, 1.0, 10) * a["monitor"][-1]
+    la = np.interp(pts, a["monitor"], a["load_factor"])
+    lb = np.interp(pts, b["monitor"], b["load_factor"])
+    e1 = np.max(np.abs(la - lb)) / peak
+    expect(e1 <= 0.02, f"the curves on 1 and {n} ranks differ by {e1:.2e} of the peak")
+    print(f"1 and {n} ranks: {len(a['load_factor'])} and {len(b['load_factor'])} steps; the first {len(early)} equal to {e0:.1e}; "
+          f"curves at the same monitor within {e1:.1e} of the peak {peak:.1f} N")
 
 
 if __name__ == "__main__":
