@@ -29,6 +29,7 @@ struct _n_BwNewton {
   PetscReal    step_work, step_dissipation, last_dlambda, lambda_trial, gross_work;
   PetscReal    step_plastic; /* the portions' own plastic work of the last converged solve (BwJointFieldPlasticWork) */
   PetscReal    lambda_solved; /* lambda of the last converged solve */
+  PetscInt     dx2_state;     /* the operator's values state dx2 = K'^-1 bP was solved with (-1: none) */
 };
 
 PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const PetscReal pattern[], BwNewton *newton)
@@ -43,7 +44,8 @@ PetscErrorCode BwNewtonCreate(BwProblem *p, const PetscReal load0[], const Petsc
   nw->nb      = p->geom->nblocks;
   nw->rtol    = 1e-8;
   nw->maxit   = 40;
-  nw->mon_row = -1;
+  nw->mon_row   = -1;
+  nw->dx2_state = -1;
   PetscCall(BwJointFieldCreate(p->mixed, &nw->field));
   PetscCall(BwLogCreate(p->comm, &nw->log));
   nw->debug = p->newton_monitor;
@@ -396,6 +398,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
       PetscCall(VecScale(nw->F, -1.0));
       if (!ok) break;
       if (!nw->dx2) PetscCall(VecDuplicate(nw->x, &nw->dx2));
+      nw->dx2_state = -1; /* solved here, with its own failure paths: not kept */
       PetscCall(BwNewtonLinearSolve(nw, nw->bP, nw->dx2, &ok));
       if (!ok) break;
       if (!nw->e) {
@@ -459,8 +462,16 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     if (!ok) break;
     if (displacement) {
       PetscReal d1, d2;
-      PetscCall(BwNewtonLinearSolve(nw, nw->bP, nw->dx2, &ok));
-      if (!ok) break;
+      PetscInt  state;
+      /* K'^-1 bP again only where K' changed: an IMPL-EX run's matrix is
+       * the same at every step, and so is this solve */
+      PetscCall(BwMixedGetValuesState(nw->mx, &state));
+      if (state != nw->dx2_state) {
+        nw->dx2_state = -1;
+        PetscCall(BwNewtonLinearSolve(nw, nw->bP, nw->dx2, &ok));
+        if (!ok) break;
+        nw->dx2_state = state;
+      }
       PetscCall(BwVecEntry(nw->dx, nw->mon_row, &d1));
       PetscCall(BwVecEntry(nw->dx2, nw->mon_row, &d2));
       if (!(PetscAbsReal(d2) > 0)) {
