@@ -23,7 +23,7 @@ struct _n_BwJointField {
    * portion, allocated on first use), the span of the step being solved
    * (0: none; the commit turns the step's increment into the rates), and
    * the measure of the implicit update (largest |C^-1/2 dr|, |C^-1/2 r|) */
-  PetscReal      *rate, span;
+  PetscReal      *rate, span, *elastic_tangent;
   PetscBool       extrapolate, measure;
   PetscReal       err_diff, err_scale, err_scale_last;
 };
@@ -83,6 +83,7 @@ PetscErrorCode BwJointFieldDestroy(BwJointField *field)
   PetscCall(PetscFree((*field)->newton_tangent));
   PetscCall(PetscFree((*field)->stress));
   PetscCall(PetscFree((*field)->rate));
+  PetscCall(PetscFree((*field)->elastic_tangent));
   PetscCall(PetscFree((*field)->poff));
   PetscCall(PetscFree(*field));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -106,24 +107,21 @@ PetscErrorCode BwJointFieldLaw(void *ctx, PetscInt e, PetscInt k, const PetscRea
   int          status;
 
   PetscFunctionBeginUser;
-  PetscCall(BwModelInterfaceLaw(f->model, k, &law, par));
   if (f->extrapolate) {
-    /* IMPL-EX: linear in the jump, the committed state kept */
-    const PetscInt nt = ns * ns, nst = f->nst;
-    PetscReal      c[9]; /* ns x ns, ns <= 3 */
-    BwJointFieldElastic(f, k, c);
-    for (PetscInt p = 0, i = off; p < np; p++, i++) {
+    /* IMPL-EX: linear in the jump; the trial state is the committed one
+     * (set once per step, BwJointFieldSetExtrapolation) and the tangents
+     * the elastic ones (BwJointFieldGetTangents) */
+    const PetscInt  nst = f->nst;
+    const PetscReal kt = f->model->kt[k], kn = f->model->kn[k];
+    for (PetscInt p = 0, i = off; p < np; p++, i++)
       for (PetscInt a = 0; a < ns; a++) {
         PetscReal jpl = f->committed[nst * i + BwJointFieldPlasticIndex[a]] + f->span * f->rate[ns * i + a];
-        stress[ns * p + a] = c[(ns + 1) * a] * (jump[ns * p + a] - jpl);
+        stress[ns * p + a] = (a == 1 ? kn : kt) * (jump[ns * p + a] - jpl);
       }
-      PetscCall(PetscArraycpy(f->tangent + nt * i, c, nt));
-      PetscCall(PetscArraycpy(f->trial + nst * i, f->committed + nst * i, nst));
-      f->mode[i] = f->committed_mode[i];
-    }
     PetscCall(PetscArraycpy(f->stress + ns * off, stress, ns * np));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
+  PetscCall(BwModelInterfaceLaw(f->model, k, &law, par));
   law->kernel((int)ns, (int)np, par, f->committed + f->nst * off, jump, stress, f->tangent + ns * ns * off, f->trial + f->nst * off, f->mode + off, &status);
   if (status == BW_LAW_OK) PetscCall(PetscArraycpy(f->stress + ns * off, stress, ns * np));
   if (status == BW_LAW_OK && f->measure) {
@@ -203,9 +201,12 @@ PetscErrorCode BwJointFieldGetTangents(BwJointField f, PetscBool committed, cons
    * converges, linearly in that portion, quadratically elsewhere. */
   if (f->extrapolate) {
     /* IMPL-EX: the elastic stiffness everywhere, the same matrix every step */
-    for (PetscInt e = 0; e < f->nown; e++)
-      for (PetscInt i = f->poff[e]; i < f->poff[e + 1]; i++) BwJointFieldElastic(f, f->own[e], f->newton_tangent + nt * i);
-    *tangent = f->newton_tangent;
+    if (!f->elastic_tangent) {
+      PetscCall(PetscMalloc1(nt * f->poff[f->nown] + 1, &f->elastic_tangent));
+      for (PetscInt e = 0; e < f->nown; e++)
+        for (PetscInt i = f->poff[e]; i < f->poff[e + 1]; i++) BwJointFieldElastic(f, f->own[e], f->elastic_tangent + nt * i);
+    }
+    *tangent = f->elastic_tangent;
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(PetscArraycpy(f->newton_tangent, f->tangent, nt * f->poff[f->nown]));
@@ -330,6 +331,12 @@ PetscErrorCode BwJointFieldSetExtrapolation(BwJointField f, PetscBool on, PetscR
   PetscFunctionBeginUser;
   if (!f->rate) PetscCall(PetscCalloc1(f->ns * f->poff[f->nown] + 1, &f->rate));
   PetscCheck(!on || span > 0, f->comm, PETSC_ERR_ARG_OUTOFRANGE, "an extrapolated step needs a span > 0");
+  if (on) {
+    /* no portion leaves its committed state or mode within the step */
+    PetscInt n = f->poff[f->nown];
+    PetscCall(PetscArraycpy(f->trial, f->committed, f->nst * n));
+    PetscCall(PetscArraycpy(f->mode, f->committed_mode, n));
+  }
   f->extrapolate = on;
   f->measure     = PETSC_FALSE;
   f->span        = on ? span : 0;

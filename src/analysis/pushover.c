@@ -390,7 +390,7 @@ static PetscErrorCode BwPushoverImplexSteps(BwAnalysis a, BwProblem *p, BwNewton
       PetscCall(BwHistoryAdd(h, lambda, mon, its, res, dissipated));
       if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": lambda %12.5e, monitor %12.5e, IMPL-EX error %.2e (residual with the return-mapped stresses %.1e), dissipated %.3e\n", step, (double)lambda, (double)mon, (double)err, (double)res_true, (double)dissipated));
       if (po->every >= 1 && step % po->every == 0) PetscCall(BwPushoverWriteStep(p, nw, of, step, lambda, load));
-      if (step >= BW_PUSHOVER_IMPLEX_MOST * po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (%d x analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target: IMPL-EX cut its steps to min_step for its tolerance", BW_PUSHOVER_IMPLEX_MOST, BW_PUSHOVER_IMPLEX_MOST * po->steps));
+      if (step >= BW_PUSHOVER_IMPLEX_MOST * po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (%d x analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target: IMPL-EX's error kept its steps short (implex_tolerance)", BW_PUSHOVER_IMPLEX_MOST, BW_PUSHOVER_IMPLEX_MOST * po->steps));
       if (po->stop_on_reversal && BwReversalStep(h->n, h->lambda) == step)
         PetscCall(PetscSNPrintf(stop, len, "the load factor changed sign past its peak: lambda %.6g at step %" PetscInt_FMT ", the assembly no longer carries the held loads (collapse; analysis.pushover.on_reversal: continue goes on)", (double)lambda, step));
       dt = PetscMin(inc, span * PetscMin(2.0, 0.8 * po->implex_tolerance / PetscMax(err, PETSC_SMALL)));

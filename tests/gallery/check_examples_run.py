@@ -9,7 +9,7 @@ that nothing ran, and `blockwall -scene examples/arch.yaml` said only
                                      (output to a temporary file; exit 0, its
                                      own checks passed: /solver accuracy_met;
                                      pushovers under control: dissipation for
-                                     40 steps)
+                                     40 steps, to 0.5 mm under IMPL-EX)
     check_examples_run.py missing    on a copy of examples/ without the
                                      written files, the error line names what
                                      writes the missing file (the script or
@@ -59,6 +59,11 @@ def check_build():
             # steps here, which cross their first cracks and switch controls
             text = open(scene).read()
             extra = ["-analysis_pushover_steps", "40"] if re.search(r"^\s+control:\s*dissipation\s*$", text, re.M) else []
+            # under IMPL-EX (analysis.pushover.scheme: implex) a step is a
+            # fraction of an increment where cracks spread: 40 increments
+            # of 0.5 mm cross the first cracks
+            if extra and re.search(r"^\s+scheme:\s*implex\s*$", text, re.M):
+                extra += ["-analysis_pushover_target", "0.0005"]
             p = blockwall(rel, out, 2, ROOT, extra)
             expect(p.returncode == 0, f"{rel} on 2 ranks: exit {p.returncode}: {p.stderr.strip()}")
             with h5py.File(out, "r") as f:
