@@ -16,7 +16,8 @@ with min and max, written as a dated section into bench/results.md:
   j4d_cap  examples/j4d_cap.yaml: J4D with the compressive cap, under
          dissipation control past its peaks to 4 mm, 1 rank (target <= 5 s)
 
-usage: bench/pushover.py [--parts j4d,j4d_cap,large] [--reps 3]
+usage: bench/pushover.py [--parts j4d,j4d_cap,large] [--reps 3] [--scheme auto|newton|implex]
+(--scheme: analysis.pushover.scheme for every part; default: the scene's)
 """
 import argparse
 import datetime
@@ -88,9 +89,11 @@ def main():
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results.md"))
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--scheme", default=None)
     a = ap.parse_args()
+    extra = ["-analysis_pushover_scheme", a.scheme] if a.scheme else []
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    lines = [f"\n## {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, commit {commit}, bench/pushover.py", "",
+    lines = [f"\n## {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, commit {commit}, bench/pushover.py" + (f" --scheme {a.scheme}" if a.scheme else ""), "",
              f"Machine: {machine()}"]
     parts = set(a.parts.split(","))
     examples = (("j4d", "j4d.yaml", "J4D wall (split units), 100 displacement steps to 4 mm, 1 rank (target ≤ 10 s)"),
@@ -100,7 +103,7 @@ def main():
     for part, name, title in examples:
         if part not in parts:
             continue
-        runs = [one(os.path.join(ROOT, "examples", name), 1) for _ in range(a.reps)]
+        runs = [one(os.path.join(ROOT, "examples", name), 1, extra) for _ in range(a.reps)]
         for r in runs:
             print(f"  {part}: {r['time']:.2f} s, {r['steps']} steps", flush=True)
         lines += table(title, runs)
@@ -114,7 +117,7 @@ def main():
                 # length; at most 150 steps (the peak, 984 kN at 2.17 mm, is
                 # a snap-back displacement control stopped at)
                 f.write(LARGE.format(courses=100, units=100, N=-0.30e6 * 21.99 * 0.1, control="dissipation", target=15e-3, steps=150))
-            runs = [one(scene, 2) for _ in range(a.reps)]
+            runs = [one(scene, 2, extra) for _ in range(a.reps)]
         for r in runs:
             print(f"  large: {r['time']:.2f} s, {r['steps']} steps, {r['past_peak']} past the peak, last {r['last_over_peak']:.3f} of the peak", flush=True)
         lines += table("~1e4-block wall, same joints, dissipation control past the peak, 2 ranks (target: 50 steps past the peak, to below 0.8 of it, ≤ 120 s)", runs)

@@ -3,6 +3,7 @@
  * clock_gettime. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <stdatomic.h>
 #include <pthread.h>
 #include <signal.h>
 #include <time.h>
@@ -34,6 +35,7 @@ static const int             bw_signals[]  = {SIGTERM, SIGINT, SIGHUP, SIGCONT};
  * saw (a gap between its ticks); lock-free atomics are safe in a handler */
 static _Atomic long long bw_tick = 0, bw_resumed = -1000000000000LL;
 static _Atomic int       bw_finishing = 0;
+static _Atomic int       bw_said      = 0; /* the interruption's line was written */
 /* BwDeadlineArm: monotonic nanoseconds of the deadline (0: none), and the
  * line; the message is written only while no deadline is armed */
 static _Atomic long long bw_deadline = 0;
@@ -86,7 +88,11 @@ static void BwSignalHandler(int sig)
   }
   for (int k = 0; k < bw_ntemporary && k < BW_MAX_TEMPORARY; k++)
     if (bw_temporary[k][0]) (void)unlink(bw_temporary[k]);
-  if (bw_rank == 0 && write(STDERR_FILENO, line, sizeof(line) - 1) < 0) { /* nothing more to do */
+  /* once per process: the launcher's SIGCONT and its SIGTERM can each be
+   * taken by another thread at the same moment (the mask only holds within
+   * one thread), and both handlers ran to here (errors.io.mpiexec_sigterm
+   * saw the line twice on a loaded machine) */
+  if (bw_rank == 0 && !atomic_exchange(&bw_said, 1) && write(STDERR_FILENO, line, sizeof(line) - 1) < 0) { /* nothing more to do */
   }
   memset(&dfl, 0, sizeof(dfl));
   dfl.sa_handler = SIG_DFL;
