@@ -50,7 +50,7 @@ def figure(runs, outdir):
         r, _ = runs[name]
         lam, mon = r.history["load_factor"], r.history["monitor"]
         env_d, env_f, sign = capacity_envelope(lam, mon)
-        ax.plot(1e3 * mon, 1e-3 * lam, "-", color="0.55", linewidth=1, label="path (dissipation control)")
+        ax.plot(1e3 * mon, 1e-3 * lam, "-", color="0.55", linewidth=1, label="path (" + ("IMPL-EX" if r.solver.get("scheme", "newton") != "newton" else "dissipation control") + ")")
         ax.plot(1e3 * env_d, 1e-3 * env_f, "-", color="tab:orange", linewidth=1.6, label="envelope")
         sv = r.solver
         fy, dy, du = (sv.get(k) for k in ("bilinear_yield_force", "bilinear_yield_displacement", "ultimate_displacement"))
@@ -59,6 +59,14 @@ def figure(runs, outdir):
                     label=f"bilinear: F_y {fy / 1e3:.1f} kN, d_y {1e3 * dy:.2f} mm, d_u {1e3 * du:.2f} mm, μ {sv['ductility']:.2f}")
         if name == "J4D":
             ax.axhspan(50, 57, color="0.88", zorder=0, label="test J4D: peak 50–57 kN (published range)")
+        # hand bounds with the precompression N of step 0 (the confinement
+        # raises N along the path): sliding c A + mu N, and rocking on a
+        # crushed toe with the top held horizontal, N (l - N/(fc t))/h
+        n0 = p * 0.099e6
+        ax.axhline(1e-3 * (0.35e6 * 0.099 + 0.75 * n0), color="tab:blue", linestyle="--", linewidth=1,
+                   label=f"c A + μ N = {1e-3 * (0.35e6 * 0.099 + 0.75 * n0):.0f} kN")
+        ax.axhline(1e-3 * n0 * (0.99 - n0 / (10.5e6 * 0.1)) / 1.0, color="tab:green", linestyle=":", linewidth=1.2,
+                   label=f"N (l − N/(f_c t))/h = {1e-3 * n0 * (0.99 - n0 / (10.5e6 * 0.1)):.0f} kN")
         ax.set_title(f"{name}: {p:.2f} MPa, first peak {sv['first_peak_load_factor'] / 1e3:.1f} kN")
         ax.set_xlabel("horizontal displacement of the top beam [mm]")
         ax.set_xlim(0, 4.2)
