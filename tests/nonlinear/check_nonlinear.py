@@ -206,6 +206,18 @@ def stack_slide():
         print(f"stack: sliding plateau {lam[-1]:.12g} = tan(phi) = 0.2 (overturning limit {limit:.4f})")
 
 
+def softening_stress(u, ft, GfI, kn):
+    """The stress of a joint pulled open by u (no shear): elastic up to ft,
+    then sigma = ft exp(-ft (u - sigma/kn) / GfI), solved by Newton."""
+    if u <= ft / kn:
+        return kn * u
+    sig = ft
+    for _ in range(100):
+        e = ft * math.exp(-ft * (u - sig / kn) / GfI)
+        sig -= (sig - e) / (1 - e * ft / (GfI * kn))
+    return sig
+
+
 def softening():
     ft, GfI, A = 0.25e6, 18.0, 0.2 * 0.1
     u_end = 10 * GfI / ft
@@ -218,19 +230,8 @@ def softening():
         want = GfI * A * (1 - math.exp(-ft * k1 / GfI)) + 0.5 * lam[-1] ** 2 / (1e11 * A)
         e = abs(work - want) / want
         expect(e <= 2e-3, f"work of the pull {work:.6g} J, GfI A (1 - exp(-ft k1/GfI)) + elastic {want:.6g} J (relative {e:.2e})")
-        # every step on the closed-form curve: elastic up to ft, then
-        # sigma = ft exp(-ft (u - sigma/kn) / GfI), solved here by Newton
-        kn, worst = 1e11, 0.0
-        for lk, uk in zip(lam, u):
-            if uk <= ft / kn:
-                sig = kn * uk
-            else:
-                sig = ft
-                for _ in range(100):
-                    g = sig - ft * math.exp(-ft * (uk - sig / kn) / GfI)
-                    dg = 1 - ft * math.exp(-ft * (uk - sig / kn) / GfI) * ft / (GfI * kn)
-                    sig -= g / dg
-            worst = max(worst, abs(lk - sig * A) / (ft * A))
+        # every step on the closed-form curve (softening_stress)
+        worst = max(abs(lk - softening_stress(uk, ft, GfI, 1e11) * A) / (ft * A) for lk, uk in zip(lam, u))
         expect(worst <= 1e-9, f"a step off the closed-form softening curve by {worst:.2e} of ft A")
         expect(lam.max() <= ft * A * (1 + 1e-12), f"peak {lam.max():.12g} above ft A = {ft * A}")
         print(f"dissipated {work:.6f} J against GfI A (1 - exp(..)) + elastic = {want:.6f} J ({e:.1e}); every step on the closed-form curve to {worst:.1e}")
