@@ -8,7 +8,7 @@ c 0.15 MPa, GfII 50 N/m, tan(phi) 0.6, tan(psi) 0), its weight held and
 lambda times it along -X3 (the tilting table), displacement control on
 the facade's top course.
 
-    python3 bench/tilt_u_wall.py [--exe build/bin/blockwall] [--reps 3] [--steps 160] [--target -0.02] [--no-write]
+    python3 bench/tilt_u_wall.py [--exe build/bin/blockwall] [--reps 3] [--steps 160] [--target -0.02] [--scheme implex] [--no-write]
 
 Reports whole-process seconds (median, min-max of --reps), the steps
 before and after the peak, Newton iterations per step, linear solves and
@@ -62,7 +62,9 @@ def main():
     ap.add_argument("--steps", type=int, default=160)
     ap.add_argument("--target", type=float, default=-0.02)
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--scheme", default=None, help="analysis.pushover.scheme (auto, newton, implex); default: the scene's (auto)")
     args = ap.parse_args()
+    extra = ["-analysis_pushover_scheme", args.scheme] if args.scheme else []
     with tempfile.TemporaryDirectory() as tmp:
         geo = os.path.join(tmp, "u2000.h5")
         g = walls3d.u_wall(facade_units=20, return_units=10, courses=50)
@@ -73,7 +75,7 @@ def main():
         times, out = [], os.path.join(tmp, "out.h5")
         for r in range(args.reps):
             t0 = time.perf_counter()
-            p = subprocess.run([args.exe, "-scene", scene, "-output_file", out], capture_output=True, text=True, env=ENV)
+            p = subprocess.run([args.exe, "-scene", scene, "-output_file", out, *extra], capture_output=True, text=True, env=ENV)
             times.append(time.perf_counter() - t0)
             if p.returncode:
                 raise SystemExit(f"blockwall failed: {p.stderr[-2000:]}")
@@ -91,14 +93,14 @@ def main():
     lines = [
         f"### Tilting U-wall pushover, {datetime.date.today().isoformat()}",
         "",
-        f"{machine()}; blockwall 1 rank; `python3 bench/tilt_u_wall.py --reps {args.reps} --steps {args.steps} --target {args.target}`",
+        f"{machine()}; blockwall 1 rank; `python3 bench/tilt_u_wall.py --reps {args.reps} --steps {args.steps} --target {args.target}" + (f" --scheme {args.scheme}" if args.scheme else "") + "`",
         "",
         f"- assembly: {nb} blocks, {npor} portions (m = 8, m_b = 4), {3 * npor if npor else '?'} stress unknowns",
         f"- whole run (scene to HDF5): median {med:.1f} s (min {min(times):.1f}, max {max(times):.1f}) over {args.reps} runs; "
         f"target <= 60 s for 100 steps past the peak: {'met' if med <= 60 and after >= 100 else 'MISSED'}",
         f"- curve: {len(lam)} steps, peak lambda {lam[peak]:.5f} at step {peak} (monitor {mon[peak] * 1e3:.3f} mm), "
         f"{after} steps past it, last lambda {lam[-1]:.5f} ({lam[-1] / lam[peak]:.3f} of the peak); stop: {dec(sv.get('stop_reason'))}",
-        f"- Newton iterations per step: mean {np.mean(its[1:]):.2f}, max {int(np.max(its[1:]))}; total {int(sv.get('newton_iterations', -1))}, "
+        f"- scheme {dec(sv.get('scheme', 'newton'))}; Newton iterations per step: mean {np.mean(its[1:]):.2f}, max {int(np.max(its[1:]))}; total {int(sv.get('newton_iterations', -1))}, "
         f"linear solves {int(sv.get('linear_solves', -1))}, factorisations (setups) {int(sv.get('setups', -1))}",
         "- time by phase (last run) [s]: " + ", ".join(f"{k} {v:.2f}" for k, v in phases.items()),
         "",
