@@ -246,6 +246,16 @@ typedef struct {
   PetscInt  *its;
 } BwHistory;
 
+/* on_reversal: stop ends the run at the step where lambda changed sign past
+ * its peak (both schemes' steps call it after adding the step) */
+static PetscErrorCode BwPushoverStopAtReversal(const BwPushover *po, const BwHistory *h, PetscInt step, PetscReal lambda, char stop[], size_t len)
+{
+  PetscFunctionBeginUser;
+  if (po->stop_on_reversal && BwReversalStep(h->n, h->lambda) == step)
+    PetscCall(PetscSNPrintf(stop, len, "the load factor changed sign past its peak: lambda %.6g at step %" PetscInt_FMT ", the assembly no longer carries the held loads (collapse; analysis.pushover.on_reversal: continue goes on)", (double)lambda, step));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* dissipation: the energy the step dissipated (accumulated here) */
 static PetscErrorCode BwHistoryAdd(BwHistory *h, PetscReal lambda, PetscReal monitor, PetscInt its, PetscReal residual, PetscReal dissipation)
 {
@@ -329,9 +339,10 @@ typedef struct {
  * kept step the next is scaled by 0.8 tol/error (at most 2), between
  * 1/BW_PUSHOVER_IMPLEX_SHORTEST and one increment (target/steps, under
  * dissipation control too).
- * Nothing in a step is decided by an iteration, so the path is a
- * continuous function of the data, round-off included, wherever the step
- * sizes agree. Under dissipation control the monitor is prescribed (the
+ * Nothing in a step is decided by an iteration: no branch is chosen by
+ * round-off (a wall whose cracks localise still amplifies a perturbation
+ * by its own instability, and a cut decided the other way moves the later
+ * steps: docs/nonlinear.md). Under dissipation control the monitor is prescribed (the
  * energy constraint needs the iteration the scheme avoids): a snap-back
  * shows as a drop of lambda within a step. */
 static PetscErrorCode BwPushoverImplexSteps(BwAnalysis a, BwProblem *p, BwNewton nw, BwOutputFile of, BwHistory *h, PetscReal mon0, PetscReal *lambda_io, PetscReal load[], BwImplexStats *st, char stop[], size_t len)
@@ -391,8 +402,7 @@ static PetscErrorCode BwPushoverImplexSteps(BwAnalysis a, BwProblem *p, BwNewton
       if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": lambda %12.5e, monitor %12.5e, IMPL-EX error %.2e (residual with the return-mapped stresses %.1e), dissipated %.3e\n", step, (double)lambda, (double)mon, (double)err, (double)res_true, (double)dissipated));
       if (po->every >= 1 && step % po->every == 0) PetscCall(BwPushoverWriteStep(p, nw, of, step, lambda, load));
       if (step >= BW_PUSHOVER_IMPLEX_MOST * po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (%d x analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target: IMPL-EX's error kept its steps short (implex_tolerance)", BW_PUSHOVER_IMPLEX_MOST, BW_PUSHOVER_IMPLEX_MOST * po->steps));
-      if (po->stop_on_reversal && BwReversalStep(h->n, h->lambda) == step)
-        PetscCall(PetscSNPrintf(stop, len, "the load factor changed sign past its peak: lambda %.6g at step %" PetscInt_FMT ", the assembly no longer carries the held loads (collapse; analysis.pushover.on_reversal: continue goes on)", (double)lambda, step));
+      PetscCall(BwPushoverStopAtReversal(po, h, step, lambda, stop, len));
       dt = PetscMin(inc, span * PetscMin(2.0, 0.8 * po->implex_tolerance / PetscMax(err, PETSC_SMALL)));
       dt = PetscMax(dt, inc / BW_PUSHOVER_IMPLEX_SHORTEST);
     }
@@ -532,8 +542,7 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
         }
       }
       if (po->control == BW_CONTROL_DISSIPATION && step >= po->steps && t < 1 - 1e-12) PetscCall(PetscSNPrintf(stop, len, "the most steps taken (analysis.pushover.steps = %" PetscInt_FMT ") before the monitor reached the target", po->steps));
-      if (po->stop_on_reversal && BwReversalStep(h->n, h->lambda) == step)
-        PetscCall(PetscSNPrintf(stop, len, "the load factor changed sign past its peak: lambda %.6g at step %" PetscInt_FMT ", the assembly no longer carries the held loads (collapse; analysis.pushover.on_reversal: continue goes on)", (double)lambda, step));
+      PetscCall(BwPushoverStopAtReversal(po, h, step, lambda, stop, len));
     } else if (by_energy) {
       PetscBool elastic;
       PetscCall(BwNewtonGetResult(nw, NULL, NULL, &reason));
