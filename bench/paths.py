@@ -13,7 +13,6 @@ usage: bench/paths.py [--scheme implex] [--steps 400,600,900] [--walls j4d_cap,j
        (walls of our own: j4d_cap_060, j4d_cap_tall, j4d_cap_window, see VARIANTS)
 """
 import argparse
-import datetime
 import os
 import subprocess
 import sys
@@ -26,7 +25,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
 import blockwall as bw  # noqa: E402
-from machine import machine  # noqa: E402
+from machine import append_section, machine, section_head  # noqa: E402
 
 REF = "/usr/lib/x86_64-linux-gnu"
 TARGET = 4.0e-3
@@ -92,8 +91,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results.md"))
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args()
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    lines = [f"\n## {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, commit {commit}, bench/paths.py --scheme {a.scheme}", "",
+    lines = [section_head(f"bench/paths.py --scheme {a.scheme}"), "",
              f"Machine: {machine()}", "",
              "The crushing walls to 4 mm, 1 rank (issue 30: every run reaches 4 mm; one wall's peaks within 2 % of each other, its loads at 4 mm within 3 % of the peak).", "",
              "| wall | steps | BLAS | reached 4 mm | peak [kN] at [mm] | at 4 mm [kN] | steps taken | Newton its | scheme | time [s] | stop |",
@@ -125,11 +123,7 @@ def main():
                            f"{'met' if sp <= 0.02 else 'missed'}); loads at 4 mm {ends.min() / 1e3 if len(ends) else float('nan'):.2f}–"
                            f"{ends.max() / 1e3 if len(ends) else float('nan'):.2f} kN (spread {100 * se:.1f} % of the peak: {'met' if se <= 0.03 else 'missed'})")
     lines += ["", f"{reached} of {total} runs reach 4 mm.", ""] + summary
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if not a.no_write:
-        with open(a.out, "a") as f:
-            f.write(text)
+    append_section(lines, a.out, not a.no_write)
 
 
 if __name__ == "__main__":

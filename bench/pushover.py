@@ -20,10 +20,8 @@ usage: bench/pushover.py [--parts j4d,j4d_cap,large] [--reps 3] [--scheme auto|n
 (--scheme: analysis.pushover.scheme for every part; default: the scene's)
 """
 import argparse
-import datetime
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -32,7 +30,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 sys.path.insert(0, os.path.join(ROOT, "bench"))
 import blockwall as bw  # noqa: E402
-from machine import machine  # noqa: E402
+from machine import append_section, machine, section_head  # noqa: E402
 
 LARGE = """title: 1e4-block running-bond wall pushover
 geometry:
@@ -92,8 +90,7 @@ def main():
     ap.add_argument("--scheme", default=None)
     a = ap.parse_args()
     extra = ["-analysis_pushover_scheme", a.scheme] if a.scheme else []
-    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    lines = [f"\n## {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC, commit {commit}, bench/pushover.py" + (f" --scheme {a.scheme}" if a.scheme else ""), "",
+    lines = [section_head("bench/pushover.py" + (f" --scheme {a.scheme}" if a.scheme else "")), "",
              f"Machine: {machine()}"]
     parts = set(a.parts.split(","))
     examples = (("j4d", "j4d.yaml", "J4D wall (split units), 100 displacement steps to 4 mm, 1 rank (target ≤ 10 s)"),
@@ -121,11 +118,7 @@ def main():
         for r in runs:
             print(f"  large: {r['time']:.2f} s, {r['steps']} steps, {r['past_peak']} past the peak, last {r['last_over_peak']:.3f} of the peak", flush=True)
         lines += table("~1e4-block wall, same joints, dissipation control past the peak, 2 ranks (target: 50 steps past the peak, to below 0.8 of it, ≤ 120 s)", runs)
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if not a.no_write:
-        with open(a.out, "a") as f:
-            f.write(text)
+    append_section(lines, a.out, not a.no_write)
 
 
 if __name__ == "__main__":

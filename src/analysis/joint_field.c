@@ -30,6 +30,13 @@ struct _n_BwJointField {
 
 static const PetscInt BwJointFieldPlasticIndex[3] = {BW_LAW_STATE_SLIP, BW_LAW_STATE_OPENING, BW_LAW_STATE_SLIP_B};
 
+/* IMPL-EX: component a of portion i's plastic jump extrapolated over the
+ * step's span from its committed value and rate */
+static inline PetscReal BwJointFieldExtrapolated(BwJointField f, PetscInt i, PetscInt a)
+{
+  return f->committed[f->nst * i + BwJointFieldPlasticIndex[a]] + f->span * f->rate[f->ns * i + a];
+}
+
 /* C = diag(kt, kn[, kt]) of interface k, ns x ns row-major. */
 static void BwJointFieldElastic(BwJointField f, PetscInt k, PetscReal c[])
 {
@@ -111,13 +118,9 @@ PetscErrorCode BwJointFieldLaw(void *ctx, PetscInt e, PetscInt k, const PetscRea
     /* IMPL-EX: linear in the jump; the trial state is the committed one
      * (set once per step, BwJointFieldSetExtrapolation) and the tangents
      * the elastic ones (BwJointFieldGetTangents) */
-    const PetscInt  nst = f->nst;
     const PetscReal kt = f->model->kt[k], kn = f->model->kn[k];
     for (PetscInt p = 0, i = off; p < np; p++, i++)
-      for (PetscInt a = 0; a < ns; a++) {
-        PetscReal jpl = f->committed[nst * i + BwJointFieldPlasticIndex[a]] + f->span * f->rate[ns * i + a];
-        stress[ns * p + a] = (a == 1 ? kn : kt) * (jump[ns * p + a] - jpl);
-      }
+      for (PetscInt a = 0; a < ns; a++) stress[ns * p + a] = (a == 1 ? kn : kt) * (jump[ns * p + a] - BwJointFieldExtrapolated(f, i, a));
     PetscCall(PetscArraycpy(f->stress + ns * off, stress, ns * np));
     PetscFunctionReturn(PETSC_SUCCESS);
   }
@@ -126,30 +129,26 @@ PetscErrorCode BwJointFieldLaw(void *ctx, PetscInt e, PetscInt k, const PetscRea
   if (status == BW_LAW_OK) PetscCall(PetscArraycpy(f->stress + ns * off, stress, ns * np));
   if (status == BW_LAW_OK && f->measure) {
     /* the implicit update of an extrapolated step: how far the stresses
-     * the step was solved with lie from the return mapping's */
-    const PetscInt nst = f->nst;
+     * the step was solved with lie from the return mapping's, in the
+     * energy norm (|C^-1/2 .|), against the portion's own stress or the
+     * smaller of its strengths (a crack's error is measured on its tensile
+     * strength, not on the crushing stress at the toe, and a large cohesion
+     * that only keeps a joint from sliding does not hide it), at least 1 %
+     * of the largest stress of the last measure */
+    PetscReal sft = par[BW_LAW_PAR_FT] / PetscSqrtReal(par[BW_LAW_PAR_KN]), sc = par[BW_LAW_PAR_C] / PetscSqrtReal(par[BW_LAW_PAR_KT]);
+    PetscReal strength = sft > 0 && sc > 0 ? PetscMin(sft, sc) : PetscMax(sft, sc);
     for (PetscInt p = 0, i = off; p < np; p++, i++) {
-      PetscReal d = 0, r = 0;
+      PetscReal diff2 = 0, own2 = 0, scale;
       for (PetscInt a = 0; a < ns; a++) {
         PetscReal ka = a == 1 ? par[BW_LAW_PAR_KN] : par[BW_LAW_PAR_KT];
-        PetscReal jpl = f->committed[nst * i + BwJointFieldPlasticIndex[a]] + f->span * f->rate[ns * i + a];
-        PetscReal rx = ka * (jump[ns * p + a] - jpl);
-        d += (stress[ns * p + a] - rx) * (stress[ns * p + a] - rx) / ka;
-        r += stress[ns * p + a] * stress[ns * p + a] / ka;
+        PetscReal dr = stress[ns * p + a] - ka * (jump[ns * p + a] - BwJointFieldExtrapolated(f, i, a));
+        diff2 += dr * dr / ka;
+        own2 += stress[ns * p + a] * stress[ns * p + a] / ka;
       }
-      /* against the portion's own stress or strength (a crack's error is
-       * measured on its tensile strength, not on the crushing stress at
-       * the toe), at least 1 % of the largest of the last measure */
-      {
-        /* the smaller of its strengths (a large cohesion that only keeps
-         * a joint from sliding does not hide its cracking's error) */
-        PetscReal sft = par[BW_LAW_PAR_FT] / PetscSqrtReal(par[BW_LAW_PAR_KN]), sc = par[BW_LAW_PAR_C] / PetscSqrtReal(par[BW_LAW_PAR_KT]);
-        PetscReal strength = sft > 0 && sc > 0 ? PetscMin(sft, sc) : PetscMax(sft, sc);
-        r = PetscMax(PetscSqrtReal(r), strength);
-      }
-      f->err_scale = PetscMax(f->err_scale, r);
-      r            = PetscMax(r, 0.01 * f->err_scale_last);
-      if (r > 0) f->err_diff = PetscMax(f->err_diff, PetscSqrtReal(d) / r);
+      scale        = PetscMax(PetscSqrtReal(own2), strength);
+      f->err_scale = PetscMax(f->err_scale, scale);
+      scale        = PetscMax(scale, 0.01 * f->err_scale_last);
+      if (scale > 0) f->err_diff = PetscMax(f->err_diff, PetscSqrtReal(diff2) / scale);
     }
   }
   if (status != BW_LAW_OK) {
@@ -248,9 +247,16 @@ PetscErrorCode BwJointFieldPlasticWork(BwJointField f, PetscReal *work)
 {
   const PetscInt *jpl = BwJointFieldPlasticIndex;
   PetscReal       loc = 0;
-  const PetscInt        ns = f->ns, nst = f->nst;
+  const PetscInt  ns = f->ns, nst = f->nst;
 
   PetscFunctionBeginUser;
+  if (f->extrapolate) {
+    /* an extrapolated evaluation keeps the committed state: nothing flowed
+     * (the implicit update's work is what counts); the flag is the same on
+     * every rank, so every rank returns here */
+    *work = 0;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   for (PetscInt e = 0; e < f->nown; e++) {
     const PetscReal *area = f->portions->area + BwPortionsFirst(f->portions, f->own[e]);
     for (PetscInt p = 0, i = f->poff[e]; i < f->poff[e + 1]; p++, i++)
@@ -325,7 +331,6 @@ PetscErrorCode BwJointFieldModeChanges(BwJointField f, PetscBool first, PetscInt
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-
 PetscErrorCode BwJointFieldSetExtrapolation(BwJointField f, PetscBool on, PetscReal span)
 {
   PetscFunctionBeginUser;
@@ -366,9 +371,3 @@ PetscErrorCode BwJointFieldExtrapolationError(BwJointField f, PetscReal *error)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwJointFieldResetRates(BwJointField f)
-{
-  PetscFunctionBeginUser;
-  if (f->rate) PetscCall(PetscArrayzero(f->rate, f->ns * f->poff[f->nown]));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}

@@ -82,5 +82,3 @@ PetscErrorCode BwJointFieldSetExtrapolation(BwJointField field, PetscBool on, Pe
  * largest over all portions. */
 PetscErrorCode BwJointFieldMeasureExtrapolation(BwJointField field);
 PetscErrorCode BwJointFieldExtrapolationError(BwJointField field, PetscReal *error);
-/* Forget the rates (the next extrapolated step starts with no flow). */
-PetscErrorCode BwJointFieldResetRates(BwJointField field);

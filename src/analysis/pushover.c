@@ -322,7 +322,7 @@ static PetscErrorCode BwPushoverWriteStep(BwProblem *p, BwNewton nw, BwOutputFil
  * many were kept and cut, the largest error kept, the largest true
  * residual of the mixed system with the return-mapped stresses. */
 typedef struct {
-  PetscInt  from_step, steps, rejected;
+  PetscInt  from_step, steps, cut;
   PetscReal error_max, residual_max;
   char      why[512]; /* auto: why Newton handed over */
 } BwImplexStats;
@@ -379,7 +379,7 @@ static PetscErrorCode BwPushoverImplexSteps(BwAnalysis a, BwProblem *p, BwNewton
        * only (no count of portions, no mode), so two runs whose errors
        * differ by round-off decide alike unless an error sits on the
        * tolerance to round-off. */
-      st->rejected++;
+      st->cut++;
       cuts++;
       dt = PetscMax(po->min_step * inc, span * PetscMax(0.1, 0.8 * po->implex_tolerance / err));
       if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": IMPL-EX error %.3e, cut to %.3g of an increment\n", h->n, (double)err, (double)(dt / inc)));
@@ -729,7 +729,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
     PetscCall(BwReportString(report, "scheme", scheme));
     PetscCall(BwReportInt(report, "implex_from_step", ist.from_step));
     PetscCall(BwReportInt(report, "implex_steps", ist.steps));
-    PetscCall(BwReportInt(report, "implex_cut_steps", ist.rejected));
+    PetscCall(BwReportInt(report, "implex_cut_steps", ist.cut));
     PetscCall(BwReportReal(report, "implex_error_max", ist.error_max));
     PetscCall(BwReportReal(report, "implex_residual_max", ist.residual_max));
   }
@@ -768,7 +768,7 @@ static PetscErrorCode BwPushoverRun(BwAnalysis a, BwProblem *p)
   PetscCall(PetscPrintf(p->comm, "  first peak: load factor %.6g at step %" PetscInt_FMT " (monitor %.6g); residual load factor %.6g (%.3g of the peak); dissipated %.6g J\n", (double)cap.first_peak_load_factor, cap.first_peak, (double)cap.first_peak_monitor, (double)cap.residual_load_factor, (double)(cap.residual_load_factor / peak), (double)cap.dissipated_energy));
   if (ist.from_step >= 0) {
     if (ist.from_step > 1) PetscCall(PetscPrintf(p->comm, "  scheme: Newton to step %" PetscInt_FMT ", then IMPL-EX (Newton could follow the path no further: %s)\n", ist.from_step - 1, ist.why));
-    PetscCall(PetscPrintf(p->comm, "  IMPL-EX: %" PetscInt_FMT " steps kept, %" PetscInt_FMT " cut; largest error kept %.3g (tolerance %g); largest residual with the return-mapped stresses %.3g\n", ist.steps, ist.rejected, (double)ist.error_max, (double)po->implex_tolerance, (double)ist.residual_max));
+    PetscCall(PetscPrintf(p->comm, "  IMPL-EX: %" PetscInt_FMT " steps kept, %" PetscInt_FMT " cut; largest error kept %.3g (tolerance %g); largest residual with the return-mapped stresses %.3g\n", ist.steps, ist.cut, (double)ist.error_max, (double)po->implex_tolerance, (double)ist.residual_max));
   }
   if (reversal >= 0 && !po->stop_on_reversal) PetscCall(PetscPrintf(p->comm, "  warning: the load factor changed sign at step %" PetscInt_FMT " (monitor %.6g), past its peak: from there the pattern acts the other way (the softened joints no longer carry the constant loads, or a snap-back unloaded the wall), no pushover any more; /solver load_reversal_step\n", reversal, (double)h.monitor[reversal]));
   if (cap.note[0]) PetscCall(PetscPrintf(p->comm, "  bilinear (NTC 2018): %s; ultimate displacement %.6g\n", cap.note, (double)cap.ultimate_displacement));

@@ -8,9 +8,11 @@ CPU and BLAS to their stated tolerances.
             `sliding` scene), displacement control: once it slides at a
             steady rate the extrapolation is exact, so the plateau is
             c A + N tan(phi) to 1e-9 (m = 2, 8, 32); the first sliding step
-            overshoots (the extrapolation starts from no flow) by less than
-            the tolerance's share; scheme "implex" in /solver, one linear
-            solve per step on one factorisation (Newton iterations = steps).
+            overshoots (the extrapolation starts from no flow) by at most
+            twice the tolerance (0.05: its error is measured on the
+            portion's own stress, and a step cut twice is kept whatever its
+            error; 0.048 measured); scheme "implex" in /solver, one linear
+            solve per step tried, cut ones included, on one factorisation.
   softening a joint pulled open through its exponential softening
             (check_nonlinear.py's `softening`): the curve against the closed
             form within the tolerance of ft A (0.2 and 0.05: the crack's
@@ -21,8 +23,9 @@ CPU and BLAS to their stated tolerances.
             past its peak the pattern's load falls through zero where the
             softened joint's stress is ft/2; by default the IMPL-EX run
             stops at the first step with lambda <= 0 and says so, its peak
-            at ft A_w - P0 or above it by at most the tolerance's overshoot
-            (0.2 ft A_w).
+            at ft A_w - P0 or above it by at most twice the tolerance of
+            ft A_w (the crack's overshoot, measured on ft; 0.025 ft A_w
+            measured).
   ranks R   the 10-course wall of check_nonlinear.py's `ranks` on 1 and R
             ranks: the same steps to 1e-10 up to half the peak; past it the
             curves at the same monitor values within 2 % of the peak (a
@@ -45,6 +48,7 @@ import check_nonlinear as cn  # noqa: E402
 import check_past_peak as cp  # noqa: E402
 
 IMPLEX = ["-analysis_pushover_scheme", "implex"]
+TOL = 0.05  # analysis.pushover.implex_tolerance's default, which these runs use
 
 
 def text(v):
@@ -67,7 +71,7 @@ def sliding():
             expect(int(sol["newton_iterations"]) == tried + int(r.history["iterations"][0]),
                    f"m = {m}: {sol['newton_iterations']} Newton iterations for {tried} IMPL-EX solves (one each, cut ones included) and step 0")
             over = (lam.max() - cap) / cap
-            expect(over <= 0.5, f"m = {m}: the first sliding step overshoots the capacity by {over:.2f}")
+            expect(over <= 2 * TOL, f"m = {m}: the first sliding step overshoots the capacity by {over:.3f} (tolerance {TOL})")
             expect((r.state[0] >= 2).all(), f"m = {m}: not every portion is sliding at the end: {r.state[0]}")
             print(f"m = {m:2d}: plateau {lam[-1]:.12g} = c A + N tan(phi) {cap:.12g} ({e:.1e}); first sliding step {over:.3f} above it; "
                   f"{len(lam) - 1} steps, largest error {float(sol['implex_error_max']):.3f}")
@@ -105,8 +109,8 @@ def reversal():
     lam = hist["load_factor"]
     k = int(np.argmax(lam))
     peak = cp.FT * cp.AW - p0
-    # the crack's first step overshoots ft by at most the tolerance (0.2 of ft A_w)
-    expect(-0.01 * peak <= lam[k] - peak <= 0.2 * cp.FT * cp.AW, f"peak lambda {lam[k]:.6e}, ft A_w - P0 = {peak:.6e}")
+    # the crack's first step overshoots ft by about the tolerance, twice it at most
+    expect(-0.01 * peak <= lam[k] - peak <= 2 * TOL * cp.FT * cp.AW, f"peak lambda {lam[k]:.6e}, ft A_w - P0 = {peak:.6e}")
     expect(len(lam) > 2 and lam[-1] <= 0 and (lam[1:-1] > 0).all(), f"the run did not end at the first lambda <= 0: last {lam[-2:]}")
     expect("changed sign" in solver["stop_reason"], f"stop_reason {solver['stop_reason']!r} does not name the sign change")
     expect(int(solver["load_reversal_step"]) == len(lam) - 1, f"load_reversal_step {solver['load_reversal_step']}, last step {len(lam) - 1}")

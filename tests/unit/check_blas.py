@@ -1,9 +1,10 @@
 """Which BLAS a run loaded, as blockwall reports it (summary line and
-/solver blas). tools/test runs the whole suite a second time with the
-reference BLAS selected through LD_LIBRARY_PATH and sets
-BW_EXPECT_BLAS to its directory: this test then fails unless the run really
-loaded it, so the second pass cannot silently test OpenBLAS twice. Without
-BW_EXPECT_BLAS it checks that some BLAS library was found and reported."""
+/solver blas). tools/test runs the whole suite twice, selecting OpenBLAS
+and then the reference BLAS through LD_LIBRARY_PATH, and sets
+BW_EXPECT_BLAS to the selected directory: this test then fails unless the
+run really loaded it, so neither pass can silently test the other's BLAS
+(whatever the system's alternatives point at). Without BW_EXPECT_BLAS it
+checks that some BLAS library was found and reported."""
 import os
 import sys
 
