@@ -178,6 +178,15 @@ int main(int argc, char **argv)
    * full disk); ROMIO reports through return codes only, which blockwall
    * turns into its one error line. A user's own choice (OMPI_MCA_io) wins. */
   setenv("OMPI_MCA_io", "^ompio", 0);
+  /* PT-Scotch 7 (Debian's, the graph partitioner) bisects in threads that
+   * call MPI concurrently, which needs MPI_THREAD_MULTIPLE; MPI here is
+   * FUNNELED, and a 5-rank partition crashed in Open MPI's Allreduce
+   * about once in 150 runs (kdgraphMapRbPart -> dgraphFold2 in a thread).
+   * One Scotch thread per rank: the same algorithm, no concurrent MPI
+   * call, and a partition that does not depend on the threads' timing.
+   * It overrides a user's value: more threads are only safe with an MPI
+   * initialised for them. */
+  setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
   if (BwSignalsInstallEarly()) {
     fprintf(stderr, "blockwall: error: cannot install a signal handler\n");
     return 3;
