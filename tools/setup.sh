@@ -66,8 +66,10 @@ bw_install_python() {
 }
 
 bw_build() {
+  # The interpreter itself, not a launcher in front of it (pyenv's shim, a
+  # bash script, took 0.36 s of every test's start: 3 minutes of the suite)
   cmake -S "$BW_ROOT" -B "$BW_ROOT/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-        -DPython3_EXECUTABLE="$(command -v python3)" >/dev/null
+        -DPython3_EXECUTABLE="$(python3 -c 'import sys; print(sys.executable)')" >/dev/null
   cmake --build "$BW_ROOT/build"
 }
 
