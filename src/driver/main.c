@@ -1,4 +1,4 @@
-#define _POSIX_C_SOURCE 200809L /* setenv */
+#define _POSIX_C_SOURCE 200809L /* POSIX calls: _exit, and the signal headers below */
 #include <unistd.h>           /* _exit */
 static const char help[] = "blockwall: static equilibrium of rigid blocks joined by elastic interfaces,\n"
                            "mixed form (block displacements and piecewise-constant interface stresses).\n"
@@ -28,6 +28,7 @@ static const char help[] = "blockwall: static equilibrium of rigid blocks joined
 #include "util/log.h"
 #include "util/compat.h"
 #include "util/signals.h"
+#include "util/process.h"
 
 typedef struct {
   BwProblem  p;
@@ -174,24 +175,7 @@ int main(int argc, char **argv)
   PetscMPIInt    rank;
   int            code = 0;
 
-  /* Open MPI's OMPIO prints its own lines on stderr when a write fails (a
-   * full disk); ROMIO reports through return codes only, which blockwall
-   * turns into its one error line. A user's own choice (OMPI_MCA_io) wins. */
-  setenv("OMPI_MCA_io", "^ompio", 0);
-  /* PT-Scotch 7 (Debian's, the graph partitioner) bisects in threads that
-   * call MPI concurrently, which needs MPI_THREAD_MULTIPLE; MPI here is
-   * FUNNELED, and a 5-rank partition crashed in Open MPI's Allreduce
-   * about once in 150 runs (kdgraphMapRbPart -> dgraphFold2 in a thread).
-   * One Scotch thread per rank: the same algorithm, no concurrent MPI
-   * call, and a partition that does not depend on the threads' timing.
-   * It overrides a user's value: more threads are only safe with an MPI
-   * initialised for them. */
-  setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
-  /* Started without mpiexec, Open MPI 4 forks an orted for this one
-   * process (for MPI_Comm_spawn, which blockwall never calls): 0.2 of a
-   * small scene's 0.6 s. Isolated, the singleton starts alone. Ignored
-   * under mpiexec and by other MPIs; a user's own value wins. */
-  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  BwProcessDefaults(); /* before MPI: util/process.c */
   if (BwSignalsInstallEarly()) {
     fprintf(stderr, "blockwall: error: cannot install a signal handler\n");
     return 3;

@@ -21,6 +21,7 @@
 #include "geometry/geometry.h"
 #include "model/model.h"
 #include "util/compat.h"
+#include "util/process.h"
 
 static PetscErrorCode BwDumpWrite(hid_t file, const char name[], hid_t type, int rank, hsize_t n0, hsize_t n1, const void *data)
 {
@@ -115,6 +116,8 @@ int main(int argc, char **argv)
   BwGeometry     geom  = NULL;
   PetscMPIInt    rank;
   int            code = 0;
+
+  BwProcessDefaults(); /* the libraries run as under blockwall */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));

@@ -30,6 +30,7 @@
 #include <hdf5.h>
 #include "system/mixed.h"
 #include "util/compat.h"
+#include "util/process.h"
 
 /* Declared in system/mixed.h once the solver calls it (see restraint.c). */
 
@@ -97,6 +98,8 @@ int main(int argc, char **argv)
   PetscErrorCode ierr;
   char           which[32] = "sway";
   int            fail      = 0;
+
+  BwProcessDefaults(); /* the libraries run as under blockwall */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   if (argc > 1) PetscCall(PetscStrncpy(which, argv[1], sizeof(which)));

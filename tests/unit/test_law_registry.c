@@ -21,6 +21,7 @@
 #include "law/law.h"
 #include "util/compat.h"
 #include "expect.h"
+#include "util/process.h"
 
 
 static PetscReal Rel(PetscReal a, PetscReal b) { return PetscAbsReal(a - b) / PetscMax(PetscAbsReal(b), 1e-300); }
@@ -39,6 +40,8 @@ int main(int argc, char **argv)
   BwScene    scene;
   BwJointLaw bed, head;
   char       which[32] = "";
+
+  BwProcessDefaults(); /* the libraries run as under blockwall */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-case", which, sizeof(which), NULL));

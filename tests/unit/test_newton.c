@@ -19,6 +19,7 @@
 #include "analysis/newton.h"
 #include "util/compat.h"
 #include "expect.h"
+#include "util/process.h"
 
 
 /* lambda at monitor u (one converged solve, committed). */
@@ -50,6 +51,8 @@ int main(int argc, char **argv)
   PetscInt     top, gtop, substeps;
   PetscBool    ok;
   char         path[PETSC_MAX_PATH_LEN];
+
+  BwProcessDefaults(); /* the libraries run as under blockwall */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscMemzero(&p, sizeof(p)));

@@ -23,6 +23,7 @@
 #include "system/portions.h"
 #include "blockwall/kernels.h"
 #include "util/compat.h"
+#include "util/process.h"
 
 static int failures = 0;
 
@@ -196,6 +197,8 @@ int main(int argc, char **argv)
 {
   const char *which;
   int         ran = 0;
+
+  BwProcessDefaults(); /* the libraries run as under blockwall */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   which = argc > 1 ? argv[1] : "all";

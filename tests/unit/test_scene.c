@@ -11,6 +11,7 @@
  * on stderr for each. */
 #include "scene/scene.h"
 #include "util/compat.h"
+#include "util/process.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -449,6 +450,8 @@ int main(int argc, char **argv)
   PetscBool   found = PETSC_FALSE;
 
   if (argc > 2 && argv[2][0] != '-') bw_tmpfile = argv[2];
+
+  BwProcessDefaults(); /* the libraries run as under blockwall */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(BwTestCases); i++) {

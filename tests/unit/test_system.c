@@ -30,6 +30,7 @@
 #include "util/compat.h"
 #include "expect.h"
 #include "util/log.h"
+#include "util/process.h"
 
 
 typedef struct {
@@ -323,6 +324,8 @@ int main(int argc, char **argv)
   BwTestProblem p;
   PetscRandom   rnd;
   char          which[32] = "";
+
+  BwProcessDefaults(); /* the libraries run as under blockwall */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-case", which, sizeof(which), NULL));

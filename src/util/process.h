@@ -1,0 +1,8 @@
+/* The process's environment, set before MPI starts: the choices every
+ * blockwall process makes for the libraries beneath it (Open MPI,
+ * PT-Scotch), in one place, so that the driver and the test programs run
+ * the libraries the same way. */
+#pragma once
+
+/* Call first in main(), before MPI_Init or PetscInitialize. */
+void BwProcessDefaults(void);
