@@ -28,10 +28,6 @@ import blockwall  # noqa: E402
 EXE = os.environ.get("BW_EXE", "build/bin/blockwall")
 MPIEXEC = os.environ.get("BW_MPIEXEC", "mpiexec")
 ENV = blockwall.environment()
-# A test labelled `input` runs blockwall with tests/common/noblas.c loaded:
-# a run of it that computes anything ends with the routine's name.
-if os.environ.get("BW_NOBLAS"):
-    ENV["LD_PRELOAD"] = os.environ["BW_NOBLAS"]
 
 
 class Failure(Exception):
