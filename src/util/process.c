@@ -18,9 +18,8 @@ void BwProcessDefaults(void)
    * It overrides a user's value: more threads are only safe with an MPI
    * initialised for them. */
   setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
-  /* Started without mpiexec, Open MPI 4 forks an orted for this one
-   * process (for MPI_Comm_spawn, which blockwall never calls): 0.2 of a
-   * small scene's 0.6 s. Isolated, the singleton starts alone. Ignored
-   * under mpiexec and by other MPIs; a user's own value wins. */
-  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  /* Not OMPI_MCA_ess_singleton_isolated (no orted for a run started
+   * without mpiexec, 0.2 s faster): isolated singletons share one session
+   * directory, and two running at once failed in orte_session_dir when one
+   * removed it as the other made it (dim3.nonlinear.tilt_slide, ctest -j2). */
 }
