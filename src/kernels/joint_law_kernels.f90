@@ -101,7 +101,6 @@ module bw_joint_law_kernels
     ! sbar = fc, perfectly plastic).
     logical :: cap = .false., soft = .false.
     real(c_double) :: css = ZERO, sp = ZERO, si = ZERO, sm = ZERO, sr = ZERO, kp = ZERO, km = ZERO, mm = ZERO
-    real(c_double) :: smin = ZERO ! the least sbar: sr with Gfc (below si = fc/3), else sp
   end type law_t
 
   type :: candidate_t
@@ -200,9 +199,7 @@ contains
     law%sm = par(IFC) / 2
     law%sr = par(IFC) / 10
     law%soft = par(IGFC) > 0
-    law%smin = law%sp
     if (.not. law%soft) return
-    law%smin = min(law%si, law%sr)
     if (.not. (par(IKP) > 0)) then
       status = BW_LAW_BAD_STRENGTH
       return
@@ -953,16 +950,19 @@ contains
     state_new(IK3) = state(IK3)
     if (.not. law%cap .or. status /= BW_LAW_OK) return
     rtr = [law%kt * (jump(1) - state(1)), law%kn * (jump(2) - state(2))]
-    ! Well inside the cap (most portions, most of the time): Q below sbar's least value
-    ! by more than the tolerance of the tests below at a bound of their scale sig (the
-    ! strengths only soften, sbar <= sp), so f3 < -ATOL sig and nothing below would
-    ! change r, t or the mode; sbar itself is not needed.
-    if (sqrt(r(2)**2 + law%css * r(1)**2) - law%smin < -ATOL * max(abs(rtr(1)) * max(ONE, sqrt(law%css)), &
-         abs(rtr(2)) * max(ONE, law%tphi), law%s0(1), law%s0(2), law%sp)) return
-    s = strength(law, state(3:4))
+    ! Well inside the cap (most portions, most of the time): f3 = Q - sbar below the
+    ! tolerance of the tests below at a bound of their scale sig (the strengths only
+    ! soften, s <= s0 and sbar <= sp), so f3 < -ATOL sig and nothing below would change
+    ! r, t or the mode. sbar of the committed k3 is a square root before the cap has
+    ! flowed (most portions): cheaper than the Coulomb strengths' exponentials sig needs,
+    ! and it lets through only what nears this portion's own cap, not every portion
+    ! above its least value fc/10 (a third of J4D-cap's portions at the toes' stresses).
     call cap_strength(law, state(IK3), sbar, dsbar)
+    f3 = sqrt(r(2)**2 + law%css * r(1)**2) - sbar
+    if (f3 < -ATOL * max(abs(rtr(1)) * max(ONE, sqrt(law%css)), abs(rtr(2)) * max(ONE, law%tphi), &
+         law%s0(1), law%s0(2), law%sp)) return
+    s = strength(law, state(3:4))
     sig = max(abs(rtr(1)) * max(ONE, sqrt(law%css)), abs(rtr(2)) * max(ONE, law%tphi), s(1), s(2), sbar)
-    f3 = cap_surface(law, r, state(IK3))
     if (f3 <= RTOL * sig) then
       ! a plastic return of the cut-off or cone that ends on the cap too (elastic trials
       ! on the cap stay mode 0, as on the other surfaces)
