@@ -17,7 +17,9 @@ with min and max, written as a dated section into bench/results.md:
          dissipation control past its peaks to 4 mm, 1 rank (target <= 5 s)
 
 usage: bench/pushover.py [--parts j4d,j4d_cap,large] [--reps 3] [--scheme auto|newton|implex]
-(--scheme: analysis.pushover.scheme for every part; default: the scene's)
+                         [--exe build/bin/blockwall] [--old OTHER/bin/blockwall]
+(--scheme: analysis.pushover.scheme for every part; default: the scene's;
+--old: a second build, its runs alternated with --exe's, a table each)
 """
 import argparse
 import os
@@ -48,11 +50,11 @@ output: {{file: out.h5, stresses: false, xdmf: false}}
 """
 
 
-def one(scene, ranks, args=()):
+def one(scene, ranks, args=(), exe=None):
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "out.h5")
         t0 = time.perf_counter()
-        r = bw.run(scene, ["-output_file", out, "-progress", "false", *args], ranks)
+        bw.run(scene, ["-output_file", out, "-progress", "false", *args], ranks, exe=exe)
         dt = time.perf_counter() - t0
         res = bw.read(out)
     s = res.solver
@@ -81,6 +83,16 @@ def table(title, runs):
     return lines
 
 
+def alternated(builds, reps, run):
+    """reps runs of each build, alternated run by run (both see the same
+    machine); [(label, runs)] in the order of builds"""
+    runs = [[] for _ in builds]
+    for _ in range(reps):
+        for i, (_, exe) in enumerate(builds):
+            runs[i].append(run(exe))
+    return [(label, rs) for (label, _), rs in zip(builds, runs)]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--parts", default="j4d,large")
@@ -88,7 +100,10 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results.md"))
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--scheme", default=None)
+    ap.add_argument("--exe", default=None, help="the build measured (default: $BW_EXE or build/bin/blockwall)")
+    ap.add_argument("--old", default=None, help="a second build, alternated run by run with --exe's")
     a = ap.parse_args()
+    builds = [("", a.exe)] + ([(f" (old build: {a.old})", a.old)] if a.old else [])
     extra = ["-analysis_pushover_scheme", a.scheme] if a.scheme else []
     lines = [section_head("bench/pushover.py" + (f" --scheme {a.scheme}" if a.scheme else "")), "",
              f"Machine: {machine()}"]
@@ -100,10 +115,11 @@ def main():
     for part, name, title in examples:
         if part not in parts:
             continue
-        runs = [one(os.path.join(ROOT, "examples", name), 1, extra) for _ in range(a.reps)]
-        for r in runs:
-            print(f"  {part}: {r['time']:.2f} s, {r['steps']} steps", flush=True)
-        lines += table(title, runs)
+        runs = alternated(builds, a.reps, lambda exe: one(os.path.join(ROOT, "examples", name), 1, extra, exe))
+        for label, rs in runs:
+            for r in rs:
+                print(f"  {part}{label}: {r['time']:.2f} s, {r['steps']} steps", flush=True)
+            lines += table(title + label, rs)
     if "large" in parts:
         with tempfile.TemporaryDirectory() as tmp:
             scene = os.path.join(tmp, "large.yaml")
@@ -114,10 +130,11 @@ def main():
                 # length; at most 150 steps (the peak, 984 kN at 2.17 mm, is
                 # a snap-back displacement control stopped at)
                 f.write(LARGE.format(courses=100, units=100, N=-0.30e6 * 21.99 * 0.1, control="dissipation", target=15e-3, steps=150))
-            runs = [one(scene, 2, extra) for _ in range(a.reps)]
-        for r in runs:
-            print(f"  large: {r['time']:.2f} s, {r['steps']} steps, {r['past_peak']} past the peak, last {r['last_over_peak']:.3f} of the peak", flush=True)
-        lines += table("~1e4-block wall, same joints, dissipation control past the peak, 2 ranks (target: 50 steps past the peak, to below 0.8 of it, ≤ 120 s)", runs)
+            runs = alternated(builds, a.reps, lambda exe: one(scene, 2, extra, exe))
+        for label, rs in runs:
+            for r in rs:
+                print(f"  large{label}: {r['time']:.2f} s, {r['steps']} steps, {r['past_peak']} past the peak, last {r['last_over_peak']:.3f} of the peak", flush=True)
+            lines += table("~1e4-block wall, same joints, dissipation control past the peak, 2 ranks (target: 50 steps past the peak, to below 0.8 of it, ≤ 120 s)" + label, rs)
     append_section(lines, a.out, not a.no_write)
 
 
