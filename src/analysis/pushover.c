@@ -560,7 +560,19 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
        * 3.855 mm; the reference BLAS: passed). */
       if (over > 0 && !elastic) {
         tau *= 4;
-        if (++over > 6) tau = 0; /* no step over converged: on to the switch */
+        if (++over > 6) {
+          /* no step over converged: on to the switch. Under auto, IMPL-EX
+           * from here: Newton has failed at every energy down to tau_min and
+           * at every step over (portions swapping at a peak of their law),
+           * and what it would do next, displacement control and energy
+           * control again, converges where round-off lets it, onto a branch
+           * round-off chooses (examples/j4d_cap.yaml at 400 steps with
+           * OpenBLAS: a snap-back that unloaded the whole wall, lambda
+           * through zero at 3.0 mm, where the reference BLAS and every other
+           * step count went on to 4 mm) */
+          tau = 0;
+          if (po->scheme == BW_SCHEME_AUTO) implex = PETSC_TRUE;
+        }
         else if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": stepping over with %.3e J (%s)\n", h->n, (double)tau, reason));
       } else if (over > 0) tau = 0;
       else {

@@ -26,6 +26,15 @@ CPU and BLAS to their stated tolerances.
             at ft A_w - P0 or above it by at most twice the tolerance of
             ft A_w (the crack's overshoot, measured on ft; 0.025 ft A_w
             measured).
+  handover  `scheme: auto` under dissipation control where Newton cannot
+            go on: the sliding block with analysis.pushover.max_iterations
+            1, so that no step in which the joint starts to slide converges
+            (elastic steps take one correction). auto hands over to IMPL-EX
+            (/solver scheme "newton+implex", implex_from_step past the
+            elastic steps), which reaches the target on the plateau
+            c A + N tan(phi) to 1e-9; Newton's steps before it lie on or
+            below the capacity, IMPL-EX's first sliding step above it by at
+            most twice the tolerance.
   ranks R   the 10-course wall of check_nonlinear.py's `ranks` on 1 and R
             ranks: the same steps to 1e-10 up to half the peak; past it the
             curves at the same monitor values within 2 % of the peak (a
@@ -75,6 +84,27 @@ def sliding():
             expect((r.state[0] >= 2).all(), f"m = {m}: not every portion is sliding at the end: {r.state[0]}")
             print(f"m = {m:2d}: plateau {lam[-1]:.12g} = c A + N tan(phi) {cap:.12g} ({e:.1e}); first sliding step {over:.3f} above it; "
                   f"{len(lam) - 1} steps, largest error {float(sol['implex_error_max']):.3f}")
+
+
+def handover():
+    c, tphi, N, A = 1.0e4, 0.75, 1000.0, 0.2 * 0.1
+    cap = c * A + N * tphi
+    with tempfile.TemporaryDirectory() as tmp:
+        res, r = cn.pushover_block(tmp, 8, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}", (1, 0, 0.055), "u1", 1e-4,
+                                   extra_args=["-analysis_pushover_control", "dissipation", "-analysis_pushover_max_iterations", "1"])
+    sol = res["solver"]
+    lam = r.history["load_factor"]
+    k = int(sol["implex_from_step"])
+    expect(text(sol["scheme"]) == "newton+implex", f"/solver scheme {sol['scheme']!r}, want newton+implex")
+    expect(text(sol["stop_reason"]) == "target reached", f"stop {sol['stop_reason']}")
+    expect(1 <= k < len(lam), f"implex_from_step {k} of {len(lam) - 1} steps")
+    expect(lam[:k].max() <= cap * (1 + 1e-10), f"Newton's steps before the handover reach {lam[:k].max():.12g} above the capacity {cap}")
+    e = abs(lam[-1] - cap) / cap
+    expect(e <= 1e-9, f"plateau {lam[-1]:.12g}, c A + N tan(phi) = {cap:.12g} (relative {e:.2e})")
+    over = (lam.max() - cap) / cap
+    expect(over <= 2 * TOL, f"IMPL-EX's first sliding step overshoots the capacity by {over:.3f} (tolerance {TOL})")
+    print(f"Newton to step {k - 1} (largest load {lam[:k].max():.6g}), IMPL-EX from step {k}: plateau {lam[-1]:.12g} = c A + N tan(phi) "
+          f"{cap:.12g} ({e:.1e}); first sliding step {over:.3f} above it; {len(lam) - 1} steps")
 
 
 def softening():

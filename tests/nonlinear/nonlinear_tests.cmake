@@ -40,8 +40,9 @@ bw_py_test(nonlinear.wall_past_peak_2 "nonlinear;mpi" nonlinear/check_wall_past_
 
 # The IMPL-EX scheme (issue 30): the sliding plateau exactly, a softening
 # crack within its tolerance and with its energy, the held-pull stack to its
-# reversal, 1 and 2 ranks alike (check_implex.py says each reference).
-foreach(case sliding softening reversal)
+# reversal, auto's handover where Newton cannot go on, 1 and 2 ranks alike
+# (check_implex.py says each reference).
+foreach(case sliding softening reversal handover)
   bw_py_test(nonlinear.implex.${case} nonlinear nonlinear/check_implex.py ${case})
 endforeach()
 bw_py_test(nonlinear.implex.ranks_2 "nonlinear;mpi" nonlinear/check_implex.py ranks 2)
