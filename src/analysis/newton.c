@@ -319,9 +319,10 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
    * Under dissipation control it is the step's length along the path, not
    * a result: a step that dissipates 0.1 % more or less than asked is as
    * good a point of the same curve (its own dissipation is what is
-   * recorded and what sizes the next step). Meeting it to rtol cost one
-   * Newton iteration (a factorisation and three solves) in 200 of J4D-cap's
-   * 396 steps, where the equilibrium had converged a step before. */
+   * recorded and what sizes the next step). Meeting it to rtol cost 251 of
+   * J4D-cap's 1979 Newton iterations (a factorisation and three solves
+   * each; replayed on a recorded run), where the equilibrium had converged
+   * an iteration before. */
   gtol = dissipation ? PetscMax(nw->rtol, BW_NEWTON_ENERGY_RTOL) : nw->rtol;
   PetscCall(BwNewtonResidual(nw, nw->xn, mu, lam, nw->F, &norm, &failed));
   for (;;) {
@@ -366,7 +367,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
      * of a factorisation each for nothing), while the step with half the
      * energy converges in a few. Stalled: after 10 iterations, the merit
      * has not halved over the last 5, and it is not within 10 times the
-     * tolerance (from there the creep reaches it in a few more). */
+     * tolerance (within it, the creep test below decides). */
     recent[nw->its % 6] = merit;
     /* Creeping just above the tolerance is a stall too: where a handful of
      * portions sit in the matrix with their elastic stiffness the merit

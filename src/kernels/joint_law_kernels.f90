@@ -956,7 +956,7 @@ contains
     ! r, t or the mode. sbar of the committed k3 is a square root before the cap has
     ! flowed (most portions): cheaper than the Coulomb strengths' exponentials sig needs,
     ! and it lets through only what nears this portion's own cap, not every portion
-    ! above its least value fc/10 (a third of J4D-cap's portions at the toes' stresses).
+    ! above the cap's least value fc/10.
     call cap_strength(law, state(IK3), sbar, dsbar)
     f3 = sqrt(r(2)**2 + law%css * r(1)**2) - sbar
     if (f3 < -ATOL * max(abs(rtr(1)) * max(ONE, sqrt(law%css)), abs(rtr(2)) * max(ONE, law%tphi), &
