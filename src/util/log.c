@@ -1,3 +1,4 @@
+#define _GNU_SOURCE /* dladdr, realpath */
 #include <stdio.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -122,18 +123,32 @@ PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char w
 
 PetscErrorCode BwBlasName(char name[], size_t len)
 {
-  FILE *f = fopen("/proc/self/maps", "r");
+  FILE *f;
   char  line[4096];
+  void *dgemm = dlsym(RTLD_DEFAULT, "dgemm_");
+  Dl_info info;
 
   PetscFunctionBeginUser;
   (void)snprintf(name, len, "unknown");
+  /* The library whose dgemm_ the process's calls bind to (the global
+   * lookup the dynamic linker resolved them with): the one that computes,
+   * even where a second BLAS is mapped too (a libopenblas.so.0 that
+   * another library names directly beside libblas.so.3). Its real path:
+   * libblas.so.3 resolved to its alternative, e.g. openblas-pthread. */
+  if (dgemm && dladdr(dgemm, &info) && info.dli_fname) {
+    char *real = realpath(info.dli_fname, NULL);
+    (void)snprintf(name, len, "%s", real ? real : info.dli_fname);
+    free(real);
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  /* no dgemm_ in the global scope (a BLAS loaded privately): the first
+   * BLAS-like library mapped */
+  f = fopen("/proc/self/maps", "r");
   if (!f) PetscFunctionReturn(PETSC_SUCCESS);
   while (fgets(line, sizeof(line), f)) {
     char *path = strchr(line, '/');
     if (!path) continue;
     path[strcspn(path, "\n")] = 0;
-    /* the library that provides dgemm: libblas.so.3 (resolved to its
-     * alternative, e.g. openblas-pthread) or an OpenBLAS/MKL/BLIS of its own */
     if (strstr(path, "libblas") || strstr(path, "libopenblas") || strstr(path, "libmkl_rt") || strstr(path, "libblis")) {
       (void)snprintf(name, len, "%s", path);
       break;

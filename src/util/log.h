@@ -51,5 +51,6 @@ PetscErrorCode BwBlasSetThreads(MPI_Comm comm);
  * s). Unless OPENBLAS_NUM_THREADS or OMP_NUM_THREADS says otherwise. */
 #define BW_BLAS_SHARED_ROWS 200000
 PetscErrorCode BwBlasSetThreadsForRows(PetscInt rows);
-/* Path of the BLAS library this process loaded (from /proc/self/maps). */
+/* Path of the BLAS library this process computes with: the one its dgemm_
+ * binds to (else the first BLAS in /proc/self/maps). */
 PetscErrorCode BwBlasName(char name[], size_t len);
