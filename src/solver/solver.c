@@ -361,8 +361,10 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
      * can be from a small error. In auto, only where the refinement showed
      * trouble (more than two steps, or a stop at the step limit): on an
      * ordinary wall it would cost 0.6 s of 4.2 s at 1e5 blocks and say
-     * nothing the forward estimate does not. */
-    if (s->condition_when == 1 || (s->condition_when == 0 && (s->iterations > 2 || kr <= 0))) {
+     * nothing the forward estimate does not. Not for a Newton correction
+     * (no forward check), which has no bound to add it to: the next
+     * iteration measures the nonlinear residual itself. */
+    if (s->condition_when == 1 || (s->condition_when == 0 && s->forward_check && (s->iterations > 2 || kr <= 0))) {
       if (pcr == PC_NOERROR && npiv == 0 && (kr > 0 || kr == KSP_DIVERGED_ITS)) {
         PC        fpc;
         Mat       A;
@@ -395,7 +397,8 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     PetscFunctionReturn(PETSC_SUCCESS);
   }
   {
-    /* A Newton correction that converged: Richardson's last residual, b - K x
+    /* A Newton correction that converged or stopped at its floor:
+     * Richardson's last residual, b - K x
      * with the unpreconditioned norm, is the true residual of the x it
      * returns (it stops before updating x), so the check's second product
      * with K is not needed (11 % of a small pushover's instructions) */
@@ -403,7 +406,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     KSPNormType nt;
     PetscCall(PetscObjectTypeCompare((PetscObject)path->ksp, KSPRICHARDSON, &richardson));
     PetscCall(KSPGetNormType(path->ksp, &nt));
-    if (!s->forward_check && kr > 0 && richardson && nt == KSP_NORM_UNPRECONDITIONED) {
+    if (!s->forward_check && (kr > 0 || (kr == KSP_DIVERGED_DTOL && s->floor_stall)) && richardson && nt == KSP_NORM_UNPRECONDITIONED) {
       PetscReal rnorm, bnorm;
       PetscCall(KSPGetResidualNorm(path->ksp, &rnorm));
       PetscCall(VecNorm(b, NORM_2, &bnorm));
