@@ -24,7 +24,7 @@ bw_install_debs() {
   local missing=() wanted=("${BW_DEBS[@]}")
   [ "${BW_SETUP_TESTS:-0}" = 1 ] && wanted+=("${BW_TEST_DEBS[@]}")
   for p in "${wanted[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+    [ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null)" = "install ok installed" ] || missing+=("$p")
   done
   if [ ${#missing[@]} -gt 0 ]; then
     echo "setup: installing ${missing[*]}"
