@@ -145,7 +145,7 @@ static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, K
   if (s->forward_check) floor = it >= 5 && s->forward_estimate <= s->forward_rtol;
   else floor = it >= 2 && rnorm <= atol / PetscSqrtReal(s->rtol);
   if (*reason == KSP_CONVERGED_ITERATING && floor && it < maxit && s->fw_rprev > 0 && rnorm > 0.5 * s->fw_rprev) {
-    PetscCall(PetscInfo(ksp, "step %" PetscInt_FMT ": residual %.3e after %.3e, displacements within forward_rtol: the round-off floor\n", it, (double)rnorm, (double)s->fw_rprev));
+    PetscCall(PetscInfo(ksp, "step %" PetscInt_FMT ": residual %.3e after %.3e, %s: the round-off floor\n", it, (double)rnorm, (double)s->fw_rprev, s->forward_check ? "displacements within forward_rtol" : "a Newton correction within sqrt(rtol)"));
     s->floor_stall = PETSC_TRUE;
     *reason        = KSP_DIVERGED_DTOL;
   }
