@@ -110,8 +110,8 @@ def main():
         # one build after the other, rep by rep: timings on a shared machine
         # drift by tens of per cent within minutes
         for r in range(args.reps):
-            for label, exe in builds:
-                out = os.path.join(tmp, f"out{len(last)}.h5")
+            for i, (label, exe) in enumerate(builds):
+                out = os.path.join(tmp, f"out{i}.h5")
                 t0 = time.perf_counter()
                 p = subprocess.run([exe, "-scene", scene, "-output_file", out, *extra], capture_output=True, text=True, env=ENV)
                 times[exe].append(time.perf_counter() - t0)

@@ -1,5 +1,5 @@
 """The suite's watchdog (blockwall.launch.Watched, through tests/common/bwrun.py
-and tests/common/watchdog.py) on a planted hang: a 2-rank run of a 1e4-block
+and tests/common/watchdog.py) on a planted hang: a 2-rank run of a 9e4-block
 wall whose rank 1 is stopped (SIGSTOP) once the first phase has ended, so
 that rank 0 waits for it in a collective for ever -- the shape of the hang of
 issue 28. The watchdog must end it within its timeout plus the report's
@@ -32,7 +32,11 @@ from bwrun import ENV, EXE, MPIEXEC, Failure, TimedOut, expect, start  # noqa: E
 import blockwall  # noqa: E402  (this checkout's python/, put on sys.path by bwrun)
 
 SCENE = os.path.join(HERE, "..", "..", "examples", "demo.yaml")
-BIG = ["-geometry_running_bond_courses", "100", "-geometry_running_bond_units_per_course", "100", "-progress"]
+# 9e4 blocks: 2.4 s on 2 ranks here, from a start-up of 0.15 s. The wrapper
+# stops rank 1 0.5 s after the start, blind: a 1e4-block wall (0.45 s in
+# all once Open MPI started in 0.15 s instead of 0.37) had ended by then
+# now and then, and the run it meant to hang was a rank in its exit.
+BIG = ["-geometry_running_bond_courses", "300", "-geometry_running_bond_units_per_course", "300", "-progress"]
 TIMEOUT = 5.0  # the planted hang's watchdog
 # what the report may take beyond TIMEOUT: two gdb runs side by side (each
 # at most blockwall.launch.GDB_SECONDS, measured 10 s on 2 busy cores) and the kill
