@@ -221,6 +221,7 @@ int main(int argc, char **argv)
      * the error is printed and the temporary files are gone */
     fflush(stdout);
     fflush(stderr);
+    BwProcessRemoveSessionBase(); /* _exit runs no atexit handler */
     _exit(code ? code : 1);
   }
   PetscPopErrorHandler();

@@ -1,8 +1,99 @@
-#define _POSIX_C_SOURCE 200809L /* setenv */
+#define _XOPEN_SOURCE 700 /* setenv, mkdtemp, nftw */
+#include <dirent.h>
+#include <errno.h>
+#include <ftw.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <limits.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "process.h"
+
+/* The private directory under which Open MPI keeps an isolated
+ * singleton's session directory ("" when there is none); removed at exit. */
+static char  bw_session_base[PATH_MAX];
+static pid_t bw_session_owner; /* a forked child that exits leaves it */
+
+static int BwRemoveEntry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
+{
+  (void)st;
+  (void)flag;
+  (void)ftw;
+  (void)remove(path);
+  return 0;
+}
+
+void BwProcessRemoveSessionBase(void)
+{
+  if (!bw_session_base[0] || getpid() != bw_session_owner) return;
+  /* the directory is this process's alone: whatever Open MPI left in it
+   * (after a failed start) goes with it */
+  (void)nftw(bw_session_base, BwRemoveEntry, 16, FTW_DEPTH | FTW_PHYS);
+  bw_session_base[0] = 0;
+}
+
+/* The private directories of singletons that died by a signal (no exit
+ * handler ran): blockwall-PID-* of this user, whose PID is gone. */
+static void BwRemoveStaleSessionBases(const char *tmp)
+{
+  DIR           *dir = opendir(tmp);
+  struct dirent *e;
+  if (!dir) return;
+  while ((e = readdir(dir))) {
+    char        path[PATH_MAX];
+    char       *end;
+    struct stat st;
+    long        pid;
+    if (strncmp(e->d_name, "blockwall-", 10)) continue;
+    pid = strtol(e->d_name + 10, &end, 10);
+    if (end == e->d_name + 10 || *end != '-' || pid <= 0 || pid == (long)getpid()) continue;
+    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue; /* alive, or not ours to tell */
+    if (snprintf(path, sizeof(path), "%s/%s", tmp, e->d_name) >= (int)sizeof(path)) continue;
+    if (lstat(path, &st) || !S_ISDIR(st.st_mode) || st.st_uid != geteuid()) continue;
+    (void)nftw(path, BwRemoveEntry, 16, FTW_DEPTH | FTW_PHYS);
+  }
+  closedir(dir);
+}
+
+/* One rank started without mpiexec. Left to itself, Open MPI 4.1 forks an
+ * orted for it and connects through PMIx, 0.2 s of a small run's 0.5 s;
+ * and in MPI_Finalize it unloads its PMIx component before it stops the
+ * progress thread that can still run that component's events: about once
+ * in 650 runs on a loaded machine the process died of SIGSEGV after its
+ * last line (two cores, 2026-11-27: the progress thread in libevent at an
+ * unmapped address where mca_pmix_ext3x.so had been, the main thread in
+ * opal_progress_thread_finalize), and with the component kept loaded the
+ * event hung on a torn-down lock instead. Isolated (ess_singleton_isolated)
+ * the singleton starts alone: no orted, no PMIx server, no such event.
+ * Isolated singletons all name their session directory alike
+ * (ompi.HOST.UID/jf.0 under the temporary directory), and two at once
+ * failed in orte_session_dir when one removed it as the other made it; so
+ * each gets a directory of its own (orte_tmpdir_base), removed at exit,
+ * or by the next singleton if this one was killed. A
+ * user's own choice of either variable wins; without a writable temporary
+ * directory the singleton starts as Open MPI would. */
+static void BwProcessIsolateSingleton(void)
+{
+  const char *tmp = getenv("TMPDIR");
+  if (getenv("OMPI_MCA_ess_singleton_isolated")) return;
+  if (!getenv("OMPI_MCA_orte_tmpdir_base")) {
+    if (!tmp || !tmp[0]) tmp = "/tmp";
+    BwRemoveStaleSessionBases(tmp);
+    if (snprintf(bw_session_base, sizeof(bw_session_base), "%s/blockwall-%ld-XXXXXX", tmp, (long)getpid()) >= (int)sizeof(bw_session_base) || !mkdtemp(bw_session_base)) {
+      bw_session_base[0] = 0;
+      return;
+    }
+    bw_session_owner = getpid();
+    if (atexit(BwProcessRemoveSessionBase) || setenv("OMPI_MCA_orte_tmpdir_base", bw_session_base, 1)) {
+      BwProcessRemoveSessionBase();
+      return;
+    }
+  }
+  setenv("OMPI_MCA_ess_singleton_isolated", "1", 1);
+}
 
 void BwProcessDefaults(void)
 {
@@ -26,13 +117,8 @@ void BwProcessDefaults(void)
    * took here, in every process. Where the ranks span machines (the local
    * size below the world's) Open MPI chooses as it would; a user's own
    * choice (OMPI_MCA_pml, --mca pml) wins. MPICH ignores the variable. */
-  {
-    const char *world = getenv("OMPI_COMM_WORLD_SIZE"), *local = getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
-    int         singleton = !world && !getenv("PMIX_RANK") && !getenv("PMI_RANK");
-    if (singleton || (world && local && !strcmp(world, local))) setenv("OMPI_MCA_pml", "ob1", 0);
-  }
-  /* Not OMPI_MCA_ess_singleton_isolated (no orted for a run started
-   * without mpiexec, 0.2 s faster): isolated singletons share one session
-   * directory, and two running at once failed in orte_session_dir when one
-   * removed it as the other made it (dim3.nonlinear.tilt_slide, ctest -j2). */
+  const char *world = getenv("OMPI_COMM_WORLD_SIZE"), *local = getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  int         singleton = !world && !getenv("PMIX_RANK") && !getenv("PMI_RANK");
+  if (singleton || (world && local && !strcmp(world, local))) setenv("OMPI_MCA_pml", "ob1", 0);
+  if (singleton) BwProcessIsolateSingleton();
 }

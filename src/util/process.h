@@ -6,3 +6,7 @@
 
 /* Call first in main(), before MPI_Init or PetscInitialize. */
 void BwProcessDefaults(void);
+
+/* Removes the private session directory of a rank started without
+ * mpiexec (process.c); runs at exit by itself, call it before _exit. */
+void BwProcessRemoveSessionBase(void);
