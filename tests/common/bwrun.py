@@ -67,9 +67,20 @@ def call(cmd, timeout=None, env=None, cwd=None, what=None):
     return start(cmd, timeout, env, cwd, what).wait()
 
 
+# For a run expected to fail. When a rank exits non-zero, Open MPI's
+# mpiexec (4.1) stops the job: SIGTERM to its ranks, then it waits
+# odls_base_sigkill_timeout (1 s) before it reaps them, even when every
+# rank has already exited: `mpiexec -n 2 sh -c 'exit 1'` takes 1.05 to 2.07 s
+# here, 0.05 s with the wait at 0. blockwall's ranks agree on an error and
+# leave through MPI_Finalize together, so nothing is left to wait for; the
+# tests of the launcher's own kill sequence (errors/check_io.py) keep it.
+FAILING_ENV = dict(ENV, OMPI_MCA_odls_base_sigkill_timeout="0")
+
+
 def run(scene, args=(), np_ranks=1, expect_ok=True, timeout=None):
     """Run blockwall, watched; returns (returncode, stdout, stderr)."""
-    p = call(blockwall.command(scene, args, np_ranks, exe=EXE, mpiexec=MPIEXEC), timeout, ENV, what="blockwall")
+    env = ENV if expect_ok else FAILING_ENV
+    p = call(blockwall.command(scene, args, np_ranks, exe=EXE, mpiexec=MPIEXEC), timeout, env, what="blockwall")
     if expect_ok and p.returncode != 0:
         raise Failure(f"blockwall failed ({p.returncode}): {' '.join(p.cmd)}\n{p.stdout}\n{p.stderr}")
     return p.returncode, p.stdout, p.stderr

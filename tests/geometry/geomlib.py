@@ -10,7 +10,7 @@ import os
 
 import numpy as np
 
-from bwrun import ENV, EXE, call
+from bwrun import EXE, FAILING_ENV, call
 import blockwall  # noqa: E402  (bwrun put this checkout's python/ on sys.path)
 
 TEST_GEOMETRY = os.environ.get("BW_TEST_GEOMETRY", os.path.join(os.path.dirname(EXE), "test_geometry"))
@@ -159,7 +159,7 @@ def geometry_only(scene, args=(), np_ranks=1, dump=None):
         cmd += ["-dump", dump]
     if np_ranks > 1:
         cmd = [os.environ.get("BW_MPIEXEC", "mpiexec"), "--oversubscribe", "-n", str(np_ranks), *cmd]
-    p = call(cmd, env=ENV, what="test_geometry")
+    p = call(cmd, env=FAILING_ENV, what="test_geometry")  # bad geometry: no second's wait (bwrun.FAILING_ENV)
     out = None
     if dump and p.returncode == 0:
         d = blockwall.read_datasets(dump)
