@@ -668,7 +668,7 @@ PetscErrorCode BwSolverView(BwSolver s, PetscViewer viewer)
 
 PetscErrorCode BwSolverGetOptionPrefixes(PetscInt *n, const char *const **prefixes)
 {
-  static const char *const all[] = {"ksp_", "pc_", "mat_", "schur_", "direct_", "condensed_", "cholesky_", "mechanism_", "mixed_", "partition_"};
+  static const char *const all[] = {"ksp_", "pc_", "mat_", "matptap_", "schur_", "direct_", "condensed_", "cholesky_", "mechanism_", "mixed_", "partition_"};
 
   PetscFunctionBeginUser;
   *n        = (PetscInt)PETSC_STATIC_ARRAY_LENGTH(all);
