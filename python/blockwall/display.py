@@ -9,11 +9,13 @@ vtkXOpenGLRenderWindow::CreateAWindow, "bad X server connection"); a fresh
 CI machine met it in a 3D plot test. Even a listening server is now and then
 refused by Xlib under load, so a run that died opening the display is tried
 again on a new server, and the tries are reported on stderr."""
+import contextlib
 import os
 import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 
 from .launch import call
@@ -84,6 +86,29 @@ def display_failed(p):
     return p.returncode != 0 and any(s in p.stdout + p.stderr for s in _DISPLAY_FAILURES)
 
 
+@contextlib.contextmanager
+def isolated_mpi(env):
+    """`env` for a program built with Open MPI run as one process without
+    mpiexec (ParaView's pvpython is): Open MPI's isolated singleton (no
+    orted), in a session directory of its own, removed afterwards. Left to
+    itself, Open MPI 4.1 forks an orted and can crash the process at its
+    end (blockwall's src/util/process.c: the same in blockwall, two cores).
+    A caller's own choice of either variable wins."""
+    env = dict(env)
+    if "OMPI_MCA_ess_singleton_isolated" in env:
+        yield env
+        return
+    env["OMPI_MCA_ess_singleton_isolated"] = "1"
+    if "OMPI_MCA_orte_tmpdir_base" in env:
+        yield env
+        return
+    base = tempfile.mkdtemp(prefix="blockwall-pvpython-")
+    try:
+        yield dict(env, OMPI_MCA_orte_tmpdir_base=base)
+    finally:
+        shutil.rmtree(base, ignore_errors=True)
+
+
 def run_with_display(cmd, timeout=600, tries=6, env=None):
     """Run cmd with a display: DISPLAY as it is when set, else an Xvfb of our
     own per try; a try that died opening the display is repeated on a new
@@ -92,10 +117,11 @@ def run_with_display(cmd, timeout=600, tries=6, env=None):
     stdout, stderr)."""
     env = dict(os.environ if env is None else env)
     if env.get("DISPLAY"):
-        return call(cmd, timeout, env, what=os.path.basename(cmd[0]))
+        with isolated_mpi(env) as e:
+            return call(cmd, timeout, e, what=os.path.basename(cmd[0]))
     for attempt in range(tries):
-        with XServer() as x:
-            p = call(cmd, timeout, dict(env, DISPLAY=x.display), what=os.path.basename(cmd[0]))
+        with XServer() as x, isolated_mpi(dict(env, DISPLAY=x.display)) as e:
+            p = call(cmd, timeout, e, what=os.path.basename(cmd[0]))
         if not display_failed(p):
             break
         print(f"X: pvpython could not open the display (try {attempt + 1} of {tries}); again with a new server",

@@ -270,8 +270,10 @@ def inside_steps(ref_path, xdmf):
 def pvpython(expect, mode, ref, xdmf):
     """This file's inside half under pvpython, without a display (data only)."""
     from bwrun import call  # noqa: E402  (put on sys.path by the caller)
+    from blockwall.display import isolated_mpi  # noqa: E402  (Open MPI's isolated singleton: no orted)
     env = {k: val for k, val in os.environ.items() if k != "DISPLAY"}
-    p = call([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), mode, ref, xdmf], env=env, what="pvpython")
+    with isolated_mpi(env) as env:
+        p = call([os.environ.get("BW_PVPYTHON", "pvpython"), os.path.abspath(__file__), mode, ref, xdmf], env=env, what="pvpython")
     print(p.stdout)
     expect(p.returncode == 0, f"pvpython: exit {p.returncode}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
 
