@@ -94,19 +94,16 @@ def isolated_mpi(env):
     itself, Open MPI 4.1 forks an orted and can crash the process at its
     end (blockwall's src/util/process.c: the same in blockwall, two cores).
     A caller's own choice of either variable wins."""
-    env = dict(env)
-    if "OMPI_MCA_ess_singleton_isolated" in env:
-        yield env
-        return
-    env["OMPI_MCA_ess_singleton_isolated"] = "1"
-    if "OMPI_MCA_orte_tmpdir_base" in env:
-        yield env
-        return
-    base = tempfile.mkdtemp(prefix="blockwall-pvpython-")
+    env, base = dict(env), None
+    if "OMPI_MCA_ess_singleton_isolated" not in env:
+        env["OMPI_MCA_ess_singleton_isolated"] = "1"
+        if "OMPI_MCA_orte_tmpdir_base" not in env:
+            base = env["OMPI_MCA_orte_tmpdir_base"] = tempfile.mkdtemp(prefix="blockwall-pvpython-")
     try:
-        yield dict(env, OMPI_MCA_orte_tmpdir_base=base)
+        yield env
     finally:
-        shutil.rmtree(base, ignore_errors=True)
+        if base:
+            shutil.rmtree(base, ignore_errors=True)
 
 
 def run_with_display(cmd, timeout=600, tries=6, env=None):
