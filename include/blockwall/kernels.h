@@ -48,6 +48,10 @@ void bw_kernel_compatibility(int dim, const double ci[], const double cj[], cons
 void bw_kernel_jumps(int dim, int np, const double xi[], const double eta[], const double dg[], double j[], int *status);
 /* f = H r = sum_p A_p E_p^T r_p (f[nd]) from r[np][ns]. */
 void bw_kernel_resultants(int dim, int np, const double area[], const double xi[], const double eta[], const double r[], double f[], int *status);
+/* The sizes of the terms those two sum, for round-off bounds: |E_p| a
+ * (j[np][ns]) from a[nd] >= 0, and sum_p A_p |E_p|^T |r_p| (f[nd]). */
+void bw_kernel_jumps_abs(int dim, int np, const double xi[], const double eta[], const double a[], double j[], int *status);
+void bw_kernel_resultants_abs(int dim, int np, const double area[], const double xi[], const double eta[], const double r[], double f[], int *status);
 /* K_G = sum_p A_p E_p^T C_p E_p (kg[nd][nd]) from nt = np tangents or one
  * (tangent[nt][ns][ns], row-major). */
 void bw_kernel_condense(int dim, int np, const double area[], const double xi[], const double eta[], int nt, const double tangent[], double kg[], int *status);

@@ -43,7 +43,8 @@ module bw_interface_kernels
   implicit none
   private
   public :: bw_kernel_frame, bw_kernel_rectangle_portions, bw_kernel_compatibility, bw_kernel_jumps, &
-            bw_kernel_resultants, bw_kernel_condense, bw_kernel_stiffness, bw_kernel_operator
+            bw_kernel_resultants, bw_kernel_condense, bw_kernel_stiffness, bw_kernel_operator, &
+            bw_kernel_jumps_abs, bw_kernel_resultants_abs
   public :: bw_interface_compatibility, bw_interface_jumps, bw_interface_resultants, &
             bw_interface_condense, bw_interface_stiffness, bw_interface_operator
 
@@ -97,6 +98,18 @@ contains
       status = BW_KERNEL_BAD_LENGTH
     end if
   end function check_portions
+
+  ! a dimension and a count of portions the jump kernels take
+  pure function check_jumps(dim, np) result(status)
+    integer(c_int), intent(in) :: dim, np
+    integer(c_int) :: status
+    status = BW_KERNEL_OK
+    if (dim /= 2 .and. dim /= 3) then
+      status = BW_KERNEL_BAD_DIMENSION
+    else if (np < 1) then
+      status = BW_KERNEL_BAD_M
+    end if
+  end function check_jumps
 
   ! E_p (3 x 6) of a portion at (xi, eta)
   pure function portion_map(xi, eta) result(e)
@@ -227,14 +240,8 @@ contains
     real(c_double), intent(out) :: j(stresses(dim), np)
     integer(c_int), intent(out) :: status
     integer :: p
-    if (dim /= 2 .and. dim /= 3) then
-      status = BW_KERNEL_BAD_DIMENSION
-      return
-    end if
-    if (np < 1) then
-      status = BW_KERNEL_BAD_M
-      return
-    end if
+    status = check_jumps(dim, np)
+    if (status /= BW_KERNEL_OK) return
     if (dim == 3) then
       do p = 1, np
         j(1, p) = dg(1) + eta(p) * dg(5)
@@ -276,6 +283,58 @@ contains
       end do
     end if
   end subroutine bw_kernel_resultants
+
+  !> The sizes of the terms the two kernels above sum, for round-off
+  !! bounds: |E_p| a (C: double j[np][ns]) from a non-negative a(nd), and
+  !! sum_p A_p |E_p|^T |r_p| (C: double f[nd]) from r(ns, np). |x| of a
+  !! product's inputs through them bounds the rounding of the product
+  !! (solver/estimates.c).
+  pure subroutine bw_kernel_jumps_abs(dim, np, xi, eta, a, j, status) bind(C, name="bw_kernel_jumps_abs")
+    integer(c_int), value, intent(in) :: dim, np
+    real(c_double), intent(in) :: xi(np), eta(np), a(dofs(dim))
+    real(c_double), intent(out) :: j(stresses(dim), np)
+    integer(c_int), intent(out) :: status
+    integer :: p
+    status = check_jumps(dim, np)
+    if (status /= BW_KERNEL_OK) return
+    if (dim == 3) then
+      do p = 1, np
+        j(1, p) = abs(a(1)) + abs(eta(p) * a(5))
+        j(2, p) = abs(a(2)) + abs(xi(p) * a(6)) + abs(eta(p) * a(4))
+        j(3, p) = abs(a(3)) + abs(xi(p) * a(5))
+      end do
+    else
+      do p = 1, np
+        j(1, p) = abs(a(1))
+        j(2, p) = abs(a(2)) + abs(xi(p) * a(3))
+      end do
+    end if
+    status = BW_KERNEL_OK
+  end subroutine bw_kernel_jumps_abs
+
+  pure subroutine bw_kernel_resultants_abs(dim, np, area, xi, eta, r, f, status) bind(C, name="bw_kernel_resultants_abs")
+    integer(c_int), value, intent(in) :: dim, np
+    real(c_double), intent(in) :: area(np), xi(np), eta(np), r(stresses(dim), np)
+    real(c_double), intent(out) :: f(dofs(dim))
+    integer(c_int), intent(out) :: status
+    integer :: p
+    status = check_portions(dim, np, area)
+    if (status /= BW_KERNEL_OK) return
+    f = 0
+    if (dim == 3) then
+      do p = 1, np
+        f(1:3) = f(1:3) + area(p) * abs(r(:, p))
+        f(4) = f(4) + area(p) * abs(eta(p) * r(2, p))
+        f(5) = f(5) + area(p) * (abs(eta(p) * r(1, p)) + abs(xi(p) * r(3, p)))
+        f(6) = f(6) + area(p) * abs(xi(p) * r(2, p))
+      end do
+    else
+      do p = 1, np
+        f(1:2) = f(1:2) + area(p) * abs(r(:, p))
+        f(3) = f(3) + area(p) * abs(xi(p) * r(2, p))
+      end do
+    end if
+  end subroutine bw_kernel_resultants_abs
 
   !> K_G = sum_p A_p E_p^T C_p E_p (C: double kg[nr][nr]) from the
   !! portions' ns x ns tangents, row-major (double tangent[nt][ns][ns]): nt =

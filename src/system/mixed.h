@@ -85,6 +85,14 @@ PetscErrorCode BwMixedGetPrescribedMask(BwMixed mixed, Vec *mask);
 PetscErrorCode BwMixedCreateSchurOperator(BwMixed mixed, Mat *S);
 PetscErrorCode BwMixedSchurRHS(BwMixed mixed, Vec b, Vec w);
 PetscErrorCode BwMixedStressesFromDofs(BwMixed mixed, Vec b, Vec x);
+/* The round-off bound of the displacements without K assembled
+ * (solver/estimates.c; operator.c says how): whether this operator has it
+ * (D^ held by its structure, elastic, no spring); the q rows' terms hq and
+ * the stress rows' gamma_r; and one pass over the stress rows for the bound's estimate
+ * (*l1 and acc = D^T (h_r .* sign(h_r .* D^ z))). */
+PetscErrorCode BwMixedRoundoffSupported(BwMixed mixed, PetscBool *yes);
+PetscErrorCode BwMixedRoundoffQ(BwMixed mixed, Vec x, Vec b, Vec hq, PetscReal *gamma_r);
+PetscErrorCode BwMixedRoundoffSweep(BwMixed mixed, Vec x, Vec b, PetscReal gamma, Vec z, Vec acc, PetscReal *l1);
 /* K as one AIJ matrix (new), for a direct factorisation. */
 PetscErrorCode BwMixedCreateAIJ(BwMixed mixed, Mat *aij);
 /* Rigid motions of the whole assembly in the scaled dofs (GAMG's near-null

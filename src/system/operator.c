@@ -66,7 +66,7 @@ static PetscErrorCode BwDShellDestroy(Mat A)
 /* The products' loops, written once for nd dofs and ns stresses and
  * inlined with the dimension's constants, so that 2D keeps its unrolled
  * loops. y_e = D^_e q for owned interface e: its ns np rows. */
-static inline void BwDShellMultOne(BwDShell *ctx, PetscInt e, const PetscScalar *ql, const PetscScalar *qg, PetscScalar *ye, const int dim, const PetscInt nd, const PetscInt ns)
+static inline void BwDShellMultOneAs(BwDShell *ctx, PetscInt e, const PetscScalar *ql, const PetscScalar *qg, PetscScalar *ye, const int dim, const PetscInt nd, const PetscInt ns, const PetscBool absolute)
 {
   const PetscReal *sqa = ctx->portions->sqrt_area + ctx->first[e];
   const PetscReal *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
@@ -80,8 +80,8 @@ static inline void BwDShellMultOne(BwDShell *ctx, PetscInt e, const PetscScalar 
       if (c < 0) continue;
       x = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
       for (PetscInt f = 0; f < nd; f++) {
-        PetscReal v = PetscRealPart(x[f]);
-        for (PetscInt r = 0; r < nd; r++) dg[r] += w[2 * nd * r + nd * s + f] * v;
+        PetscReal v = absolute ? PetscAbsScalar(x[f]) : PetscRealPart(x[f]);
+        for (PetscInt r = 0; r < nd; r++) dg[r] += (absolute ? PetscAbsReal(w[2 * nd * r + nd * s + f]) : w[2 * nd * r + nd * s + f]) * v;
       }
     }
   } else {
@@ -95,6 +95,14 @@ static inline void BwDShellMultOne(BwDShell *ctx, PetscInt e, const PetscScalar 
       if (c < 0) continue;
       x  = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
       sc = c < ctx->nq_local ? ctx->scl + c : ctx->scg + (c - ctx->nq_local);
+      if (absolute) {
+        for (PetscInt f = 0; f < 6; f++) v[f] = PetscAbsReal(sc[f]) * PetscAbsScalar(x[f]);
+        for (PetscInt r = 0; r < 3; r++) {
+          for (PetscInt c = 0; c < 3; c++) dg[r] += PetscAbsReal(Q[3 * r + c]) * v[c] + PetscAbsReal(M[3 * r + c]) * v[3 + c];
+          for (PetscInt c = 0; c < 3; c++) dg[3 + r] += PetscAbsReal(Q[3 * r + c]) * v[3 + c];
+        }
+        continue;
+      }
       for (PetscInt f = 0; f < 6; f++) v[f] = sc[f] * PetscRealPart(x[f]);
       for (PetscInt r = 0; r < 3; r++) {
         dg[r] += sign * (Q[3 * r] * v[0] + Q[3 * r + 1] * v[1] + Q[3 * r + 2] * v[2]) + M[3 * r] * v[3] + M[3 * r + 1] * v[4] + M[3 * r + 2] * v[5];
@@ -102,7 +110,8 @@ static inline void BwDShellMultOne(BwDShell *ctx, PetscInt e, const PetscScalar 
       }
     }
   }
-  bw_kernel_jumps(dim, (int)ctx->np[e], xi, eta, dg, ye, &status);
+  if (absolute) bw_kernel_jumps_abs(dim, (int)ctx->np[e], xi, eta, dg, ye, &status);
+  else bw_kernel_jumps(dim, (int)ctx->np[e], xi, eta, dg, ye, &status);
   for (PetscInt a = 0; a < ns; a++) sk[a] = a == 1 ? ctx->skn[e] : ctx->skt[e];
   if (ctx->uniform[e]) { /* equal portions (every 2D joint): one factor per component */
     for (PetscInt a = 0; a < ns; a++) sk[a] *= sqa[0];
@@ -113,6 +122,11 @@ static inline void BwDShellMultOne(BwDShell *ctx, PetscInt e, const PetscScalar 
       for (PetscInt a = 0; a < ns; a++) ye[ns * p + a] *= sqa[p] * sk[a];
 }
 
+static inline void BwDShellMultOne(BwDShell *ctx, PetscInt e, const PetscScalar *ql, const PetscScalar *qg, PetscScalar *ye, const int dim, const PetscInt nd, const PetscInt ns)
+{
+  BwDShellMultOneAs(ctx, e, ql, qg, ye, dim, nd, ns, PETSC_FALSE);
+}
+
 static inline void BwDShellMultLoop(BwDShell *ctx, const PetscScalar *ql, const PetscScalar *qg, PetscScalar *yy, const int dim, const PetscInt nd, const PetscInt ns)
 {
   for (PetscInt e = 0; e < ctx->n; e++) BwDShellMultOne(ctx, e, ql, qg, yy + ctx->row[e], dim, nd, ns);
@@ -120,7 +134,7 @@ static inline void BwDShellMultLoop(BwDShell *ctx, const PetscScalar *ql, const 
 
 /* q += D^_e^T y_e for owned interface e (its ns np rows y_e); ctx->work
  * holds the scaled stresses meanwhile. */
-static inline void BwDShellMultTransposeOne(BwDShell *ctx, PetscInt e, const PetscScalar *ye, PetscScalar *ql, PetscScalar *qg, const int dim, const PetscInt nd, const PetscInt ns)
+static inline void BwDShellMultTransposeOneAs(BwDShell *ctx, PetscInt e, const PetscScalar *ye, PetscScalar *ql, PetscScalar *qg, const int dim, const PetscInt nd, const PetscInt ns, const PetscBool absolute)
 {
   const PetscReal *isqa = ctx->portions->inv_sqrt_area + ctx->first[e];
   const PetscReal *area = ctx->portions->area + ctx->first[e], *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
@@ -134,7 +148,8 @@ static inline void BwDShellMultTransposeOne(BwDShell *ctx, PetscInt e, const Pet
   } else
     for (PetscInt p = 0; p < ctx->np[e]; p++)
       for (PetscInt a = 0; a < ns; a++) ctx->work[ns * p + a] = sk[a] * isqa[p] * PetscRealPart(ye[ns * p + a]);
-  bw_kernel_resultants(dim, (int)ctx->np[e], area, xi, eta, ctx->work, f, &status);
+  if (absolute) bw_kernel_resultants_abs(dim, (int)ctx->np[e], area, xi, eta, ctx->work, f, &status);
+  else bw_kernel_resultants(dim, (int)ctx->np[e], area, xi, eta, ctx->work, f, &status);
   if (dim == 2) {
     const PetscReal *w = ctx->w + 2 * nd * nd * e;
     for (PetscInt s = 0; s < 2; s++) {
@@ -144,7 +159,7 @@ static inline void BwDShellMultTransposeOne(BwDShell *ctx, PetscInt e, const Pet
       x = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
       for (PetscInt g = 0; g < nd; g++) {
         PetscReal acc = 0;
-        for (PetscInt r = 0; r < nd; r++) acc += w[2 * nd * r + nd * s + g] * f[r];
+        for (PetscInt r = 0; r < nd; r++) acc += (absolute ? PetscAbsReal(w[2 * nd * r + nd * s + g]) : w[2 * nd * r + nd * s + g]) * f[r];
         x[g] += acc;
       }
     }
@@ -152,6 +167,23 @@ static inline void BwDShellMultTransposeOne(BwDShell *ctx, PetscInt e, const Pet
     /* q_s += diag(s) (+-Q^T F + ..., M_s^T F +- Q^T M) */
     const PetscReal *Q = ctx->w + 27 * e;
     PetscReal        qf[3], qm[3];
+    if (absolute) { /* |W^T| f, f >= 0 */
+      for (PetscInt s = 0; s < 2; s++) {
+        PetscInt         c = ctx->col[2 * e + s];
+        PetscScalar     *x;
+        const PetscReal *sc, *M = Q + 9 * (s + 1);
+        if (c < 0) continue;
+        x  = c < ctx->nq_local ? ql + c : qg + (c - ctx->nq_local);
+        sc = c < ctx->nq_local ? ctx->scl + c : ctx->scg + (c - ctx->nq_local);
+        for (PetscInt g = 0; g < 3; g++) {
+          PetscReal af = 0, am = 0;
+          for (PetscInt r = 0; r < 3; r++) af += PetscAbsReal(Q[3 * r + g]) * f[r], am += PetscAbsReal(M[3 * r + g]) * f[r] + PetscAbsReal(Q[3 * r + g]) * f[3 + r];
+          x[g] += PetscAbsReal(sc[g]) * af;
+          x[3 + g] += PetscAbsReal(sc[3 + g]) * am;
+        }
+      }
+      return;
+    }
     for (PetscInt g = 0; g < 3; g++) {
       qf[g] = Q[g] * f[0] + Q[3 + g] * f[1] + Q[6 + g] * f[2];
       qm[g] = Q[g] * f[3] + Q[3 + g] * f[4] + Q[6 + g] * f[5];
@@ -169,6 +201,11 @@ static inline void BwDShellMultTransposeOne(BwDShell *ctx, PetscInt e, const Pet
       }
     }
   }
+}
+
+static inline void BwDShellMultTransposeOne(BwDShell *ctx, PetscInt e, const PetscScalar *ye, PetscScalar *ql, PetscScalar *qg, const int dim, const PetscInt nd, const PetscInt ns)
+{
+  BwDShellMultTransposeOneAs(ctx, e, ye, ql, qg, dim, nd, ns, PETSC_FALSE);
 }
 
 static inline void BwDShellMultTransposeLoop(BwDShell *ctx, const PetscScalar *yy, PetscScalar *ql, PetscScalar *qg, const int dim, const PetscInt nd, const PetscInt ns)
@@ -702,6 +739,186 @@ PetscErrorCode BwMixedResidualSums(BwMixed mx, Vec x, Vec b, PetscReal loc[6])
   PetscCall(VecRestoreSubVector(b, mx->isr, &br));
   PetscCall(VecRestoreSubVector(x, mx->isq, &xq));
   PetscCall(VecRestoreSubVector(x, mx->isr, &xr));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The round-off bound of the displacements for a system too large to be
+ * assembled (solver/estimates.c, BwSolverForwardBoundSchur): LAPACK's
+ * forward error bound |x - x*| <= |K~^-1| g, g = |b - K~ x| + gamma (|K~|
+ * |x| + |b|), restricted to the displacement rows, whose rows of K~^-1 are
+ * [S~^-1 D^T, S~^-1] (S~ = D^T D^ + P: x_q = S~^-1 (b_q + D^T b_r)). |K~|
+ * |x| is formed the way the products form it, |D^| as |E_p| |W_k|
+ * (bw_kernel_jumps_abs), so it bounds their rounding; D^T stays inside
+ * S~^-1 D^T, whose pairs of equal and opposite forces would otherwise be
+ * bounded as loads of one sign (a bound with |S^| alone claimed 2e-5 on
+ * walls right to 1e-15). For the elastic operator held by its structure,
+ * without a spring: where else the whole system is assembled. */
+PetscErrorCode BwMixedRoundoffSupported(BwMixed mx, PetscBool *yes)
+{
+  PetscFunctionBeginUser;
+  *yes = mx->storage == BW_STORAGE_SHELL && !mx->tangent && mx->spring_gblock < 0 ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* hq = |b_q - (K~ x)_q| + gamma_q (|b_q| + |P| |x_q| + |D^T| |x_r|) by
+ * rows, and gamma_r for the stress rows. gamma = d eps, d the most
+ * roundings a term of the row's sum goes through in the products as they
+ * are computed (Higham, Accuracy and Stability, 2nd ed., sec. 3.1: a sum of
+ * terms each rounded at most d times errs by at most gamma_d times the sum
+ * of their sizes), rather than LAPACK's one count of the longest row for
+ * every row: in 3D a stress row of D^ q~ is a jump of three components of
+ * dG (12 products each), scaled, then added to b_r and x_r: 2 nd + 6; a
+ * block row sums over its portions (two terms each for a moment), W^T
+ * (2 nd), its interfaces, P and b_q: 2 np + 2 nd + deg + 4. The top beam
+ * of a 3D wall touches a course of units: by the longest row every row's
+ * bound grew a hundredfold. */
+PetscErrorCode BwMixedRoundoffQ(BwMixed mx, Vec x, Vec b, Vec hq, PetscReal *gamma_r)
+{
+  BwDShell          *ctx;
+  Vec                xr, xq, br, bq, a;
+  const PetscScalar *yy;
+  PetscScalar       *al, *ag = NULL;
+
+  PetscFunctionBeginUser;
+  *gamma_r = (2 * mx->nd + 6) * PETSC_MACHINE_EPSILON;
+  PetscCall(MatShellGetContext(mx->D, &ctx));
+  PetscCall(VecGetSubVector(x, mx->isr, &xr));
+  PetscCall(VecGetSubVector(x, mx->isq, &xq));
+  PetscCall(VecGetSubVector(b, mx->isr, &br));
+  PetscCall(VecGetSubVector(b, mx->isq, &bq));
+  /* |b_q - P x_q - D^T x_r| */
+  PetscCall(VecPointwiseMult(hq, mx->pmask, xq));
+  PetscCall(MatMultTransposeAdd(mx->D, xr, hq, hq));
+  PetscCall(VecAYPX(hq, -1.0, bq));
+  PetscCall(VecAbs(hq));
+  /* |D^T| |x_r|, an interface at a time, the ghosts' sums sent back */
+  PetscCall(VecDuplicate(hq, &a));
+  PetscCall(VecZeroEntries(a));
+  if (ctx->scatter) {
+    PetscCall(VecZeroEntries(ctx->ghost));
+    PetscCall(VecGetArray(ctx->ghost, &ag));
+  }
+  PetscCall(VecGetArray(a, &al));
+  PetscCall(VecGetArrayRead(xr, &yy));
+  for (PetscInt e = 0; e < ctx->n; e++) {
+    if (mx->dim == 2) BwDShellMultTransposeOneAs(ctx, e, yy + ctx->row[e], al, ag, 2, 3, 2, PETSC_TRUE);
+    else BwDShellMultTransposeOneAs(ctx, e, yy + ctx->row[e], al, ag, 3, 6, 3, PETSC_TRUE);
+  }
+  PetscCall(VecRestoreArrayRead(xr, &yy));
+  PetscCall(VecRestoreArray(a, &al));
+  if (ctx->scatter) {
+    PetscCall(VecRestoreArray(ctx->ghost, &ag));
+    PetscCall(VecScatterBegin(ctx->scatter, ctx->ghost, a, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(ctx->scatter, ctx->ghost, a, ADD_VALUES, SCATTER_REVERSE));
+  }
+  {
+    PetscScalar       *av, *h;
+    const PetscScalar *xv, *bv, *pv;
+    PetscInt           n;
+    PetscCall(VecGetLocalSize(a, &n));
+    PetscCall(VecGetArray(a, &av));
+    PetscCall(VecGetArray(hq, &h));
+    PetscCall(VecGetArrayRead(xq, &xv));
+    PetscCall(VecGetArrayRead(bq, &bv));
+    PetscCall(VecGetArrayRead(mx->pmask, &pv));
+    for (PetscInt i = 0; i < n; i++) av[i] = PetscRealPart(av[i]) + PetscAbsScalar(bv[i]) + PetscAbsScalar(pv[i] * xv[i]);
+    for (PetscInt e = 0; e < mx->nown_blocks; e++) {
+      PetscInt  bl = mx->own_blocks[e], i0 = mx->qrow[bl] - mx->qstart;
+      PetscReal gamma_q = (2 * mx->portions.maxnp + 2 * mx->nd + (mx->adj_offsets[bl + 1] - mx->adj_offsets[bl]) + 4) * PETSC_MACHINE_EPSILON;
+      if (mx->qrow[bl] < 0) continue;
+      for (PetscInt c = 0; c < mx->nd; c++) h[i0 + c] += gamma_q * PetscRealPart(av[i0 + c]);
+    }
+    PetscCall(VecRestoreArrayRead(mx->pmask, &pv));
+    PetscCall(VecRestoreArrayRead(bq, &bv));
+    PetscCall(VecRestoreArrayRead(xq, &xv));
+    PetscCall(VecRestoreArray(hq, &h));
+    PetscCall(VecRestoreArray(a, &av));
+  }
+  PetscCall(VecDestroy(&a));
+  PetscCall(VecRestoreSubVector(b, mx->isq, &bq));
+  PetscCall(VecRestoreSubVector(b, mx->isr, &br));
+  PetscCall(VecRestoreSubVector(x, mx->isq, &xq));
+  PetscCall(VecRestoreSubVector(x, mx->isr, &xr));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* One pass over the stress rows for the Hager-Higham estimate of the bound
+ * (estimates.c), without a vector of the stresses' size: with h_r =
+ * |b_r + x_r - D^ x_q| + gamma (|x_r| + |D^| |x_q| + |b_r|) made an
+ * interface at a time, y_r = h_r .* (D^ z): *l1 = ||y_r||_1 (over all
+ * ranks), and acc = D^T (h_r .* sign(y_r)). */
+PetscErrorCode BwMixedRoundoffSweep(BwMixed mx, Vec x, Vec b, PetscReal gamma, Vec z, Vec acc, PetscReal *l1)
+{
+  const PetscInt     ns = mx->ns;
+  BwDShell          *ctx;
+  Vec                xr, xq, br, gx = NULL;
+  const PetscScalar *xl, *xg = NULL, *zl, *zg = NULL, *xx, *bb;
+  PetscScalar       *al, *ag = NULL, *de, *ae, *te, *ye;
+  PetscReal          sum = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(mx->D, &ctx));
+  PetscCall(VecGetSubVector(x, mx->isr, &xr));
+  PetscCall(VecGetSubVector(x, mx->isq, &xq));
+  PetscCall(VecGetSubVector(b, mx->isr, &br));
+  PetscCall(VecZeroEntries(acc));
+  if (ctx->scatter) {
+    /* the ghosts of x_q and of z, and acc's sums for other ranks' blocks */
+    PetscCall(VecDuplicate(ctx->ghost, &gx));
+    if (!ctx->ghost_sum) PetscCall(VecDuplicate(ctx->ghost, &ctx->ghost_sum));
+    PetscCall(VecScatterBegin(ctx->scatter, xq, gx, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(ctx->scatter, xq, gx, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterBegin(ctx->scatter, z, ctx->ghost, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(ctx->scatter, z, ctx->ghost, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecGetArrayRead(ctx->ghost, &zg));
+    PetscCall(VecGetArrayRead(gx, &xg));
+    PetscCall(VecZeroEntries(ctx->ghost_sum));
+    PetscCall(VecGetArray(ctx->ghost_sum, &ag));
+  }
+  PetscCall(PetscMalloc4(ns * mx->portions.maxnp + 1, &de, ns * mx->portions.maxnp + 1, &ae, ns * mx->portions.maxnp + 1, &te, ns * mx->portions.maxnp + 1, &ye));
+  PetscCall(VecGetArrayRead(xq, &xl));
+  PetscCall(VecGetArrayRead(z, &zl));
+  PetscCall(VecGetArray(acc, &al));
+  PetscCall(VecGetArrayRead(xr, &xx));
+  PetscCall(VecGetArrayRead(br, &bb));
+  for (PetscInt e = 0; e < ctx->n; e++) {
+    const PetscScalar *xe = xx + ctx->row[e], *be = bb + ctx->row[e];
+    if (mx->dim == 2) {
+      BwDShellMultOneAs(ctx, e, xl, xg, de, 2, 3, 2, PETSC_FALSE);
+      BwDShellMultOneAs(ctx, e, xl, xg, ae, 2, 3, 2, PETSC_TRUE);
+      BwDShellMultOneAs(ctx, e, zl, zg, te, 2, 3, 2, PETSC_FALSE);
+    } else {
+      BwDShellMultOneAs(ctx, e, xl, xg, de, 3, 6, 3, PETSC_FALSE);
+      BwDShellMultOneAs(ctx, e, xl, xg, ae, 3, 6, 3, PETSC_TRUE);
+      BwDShellMultOneAs(ctx, e, zl, zg, te, 3, 6, 3, PETSC_FALSE);
+    }
+    for (PetscInt i = 0; i < ns * ctx->np[e]; i++) {
+      PetscReal h = PetscAbsScalar(be[i] + xe[i] - de[i]) + gamma * (PetscAbsScalar(xe[i]) + PetscRealPart(ae[i]) + PetscAbsScalar(be[i]));
+      PetscReal y = h * PetscRealPart(te[i]);
+      sum += PetscAbsReal(y);
+      ye[i] = y >= 0 ? h : -h;
+    }
+    if (mx->dim == 2) BwDShellMultTransposeOneAs(ctx, e, ye, al, ag, 2, 3, 2, PETSC_FALSE);
+    else BwDShellMultTransposeOneAs(ctx, e, ye, al, ag, 3, 6, 3, PETSC_FALSE);
+  }
+  PetscCall(VecRestoreArrayRead(br, &bb));
+  PetscCall(VecRestoreArrayRead(xr, &xx));
+  PetscCall(VecRestoreArray(acc, &al));
+  PetscCall(VecRestoreArrayRead(z, &zl));
+  PetscCall(VecRestoreArrayRead(xq, &xl));
+  PetscCall(PetscFree4(de, ae, te, ye));
+  if (ctx->scatter) {
+    PetscCall(VecRestoreArrayRead(gx, &xg));
+    PetscCall(VecRestoreArrayRead(ctx->ghost, &zg));
+    PetscCall(VecRestoreArray(ctx->ghost_sum, &ag));
+    PetscCall(VecScatterBegin(ctx->scatter, ctx->ghost_sum, acc, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(ctx->scatter, ctx->ghost_sum, acc, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecDestroy(&gx));
+  }
+  PetscCall(VecRestoreSubVector(b, mx->isr, &br));
+  PetscCall(VecRestoreSubVector(x, mx->isq, &xq));
+  PetscCall(VecRestoreSubVector(x, mx->isr, &xr));
+  PetscCallMPI(MPIU_Allreduce(&sum, l1, 1, MPIU_REAL, MPIU_SUM, mx->comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

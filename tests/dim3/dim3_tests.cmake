@@ -72,3 +72,7 @@ foreach(load in out)
   bw_py_test(dim3.schur_iterative_${load}_2ranks "dim3;solver;mpi" dim3/check_schur3d.py ${load} 2)
   set_tests_properties(dim3.schur_iterative_${load} dim3.schur_iterative_${load}_2ranks PROPERTIES TIMEOUT 120)
 endforeach()
+# The displacements' round-off bound through S^'s factor (without K~
+# assembled) against the whole system's, on 1 and 3 ranks.
+bw_py_test(dim3.forward_bound "dim3;solver;mpi" dim3/check_forward_bound.py)
+set_tests_properties(dim3.forward_bound PROPERTIES TIMEOUT 300)

@@ -5,6 +5,9 @@ auto, solver.rtol 1e-10, one rank) against an independent reference.
     check_stability.py --table [CASE ...]   measure and print, no asserts
     check_stability.py --markdown [CASE ...] the same as a Markdown table
     check_stability.py --keep DIR ...       leave each case's files in DIR/CASE
+    check_stability.py --options 'OPTS' CASE ...  the same asserts, with more
+                                            blockwall options (a path forced:
+                                            -solver_forward_bound schur)
 
 References (the `ref` column)
   closed   model.md's closed form for a block on a fixed block (below),
@@ -565,9 +568,12 @@ def check_run(name, r, relaxed=False):
            f"{r['tol']:.0e} with exit 0, residual {r['residual']:.1e}, no warning in /solver ({r['cmd']})")
 
 
+OPTIONS = []  # --options: more blockwall options for every run of check()
+
+
 def check(name):
     case = ALL[name]
-    r = measure(name)
+    r = measure(name, OPTIONS)
     print(row(r))
     if case.expect == "refuse":
         expect(r["rc"] != 0 and said_so(r), f"{name}: a mechanism must be refused with a message; exit {r['rc']}")
@@ -578,7 +584,7 @@ def check(name):
         # always writes its answer; if the real128 reference can factor the
         # stiffness of that file, the assembly is not a mechanism.
         try:
-            c = measure(name, ["-solver_method", "condensed"])
+            c = measure(name, [*OPTIONS, "-solver_method", "condensed"])
         except Failure:  # bw_reference cannot factor it either: a mechanism indeed
             c = {"rc": -1}
         if c["rc"] == 0 and "numerically singular" in r["stderr"]:
@@ -668,6 +674,9 @@ if __name__ == "__main__":
     argv = sys.argv[1:]
     if len(argv) > 1 and argv[0] == "--keep":
         KEEP = os.path.abspath(argv[1])
+        argv = argv[2:]
+    if len(argv) > 1 and argv[0] == "--options":
+        OPTIONS = argv[1].split()
         argv = argv[2:]
     if argv and argv[0] in ("--table", "--markdown"):
         rows = []
