@@ -52,6 +52,10 @@ void bw_kernel_resultants(int dim, int np, const double area[], const double xi[
  * (j[np][ns]) from a[nd] >= 0, and sum_p A_p |E_p|^T |r_p| (f[nd]). */
 void bw_kernel_jumps_abs(int dim, int np, const double xi[], const double eta[], const double a[], double j[], int *status);
 void bw_kernel_resultants_abs(int dim, int np, const double area[], const double xi[], const double eta[], const double r[], double f[], int *status);
+/* The same two in double-double (value = hi + lo), for a residual far
+ * below double's round-off: j = E_p dg, f = sum_p A_p E_p^T r_p. */
+void bw_kernel_jumps_dd(int dim, int np, const double xi[], const double eta[], const double dg_hi[], const double dg_lo[], double j_hi[], double j_lo[], int *status);
+void bw_kernel_resultants_dd(int dim, int np, const double area[], const double xi[], const double eta[], const double r_hi[], const double r_lo[], double f_hi[], double f_lo[], int *status);
 /* K_G = sum_p A_p E_p^T C_p E_p (kg[nd][nd]) from nt = np tangents or one
  * (tangent[nt][ns][ns], row-major). */
 void bw_kernel_condense(int dim, int np, const double area[], const double xi[], const double eta[], int nt, const double tangent[], double kg[], int *status);

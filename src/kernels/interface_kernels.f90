@@ -44,7 +44,7 @@ module bw_interface_kernels
   private
   public :: bw_kernel_frame, bw_kernel_rectangle_portions, bw_kernel_compatibility, bw_kernel_jumps, &
             bw_kernel_resultants, bw_kernel_condense, bw_kernel_stiffness, bw_kernel_operator, &
-            bw_kernel_jumps_abs, bw_kernel_resultants_abs
+            bw_kernel_jumps_abs, bw_kernel_resultants_abs, bw_kernel_jumps_dd, bw_kernel_resultants_dd
   public :: bw_interface_compatibility, bw_interface_jumps, bw_interface_resultants, &
             bw_interface_condense, bw_interface_stiffness, bw_interface_operator
 
@@ -335,6 +335,112 @@ contains
       end do
     end if
   end subroutine bw_kernel_resultants_abs
+
+  !> The two kernels above in double-double arithmetic (a value is hi + lo,
+  !! |lo| <= ulp(hi) / 2: about 32 digits), for a residual computed to far
+  !! below double's round-off (solver/estimates.c): j = E_p dg from dg
+  !! (dg_hi, dg_lo), and f = sum_p A_p E_p^T r_p from r (r_hi, r_lo), with
+  !! Knuth's two-sum and Dekker's two-product, exact in IEEE double without
+  !! a fused multiply-add.
+  pure subroutine bw_kernel_jumps_dd(dim, np, xi, eta, dg_hi, dg_lo, j_hi, j_lo, status) bind(C, name="bw_kernel_jumps_dd")
+    integer(c_int), value, intent(in) :: dim, np
+    real(c_double), intent(in) :: xi(np), eta(np), dg_hi(dofs(dim)), dg_lo(dofs(dim))
+    real(c_double), intent(out) :: j_hi(stresses(dim), np), j_lo(stresses(dim), np)
+    integer(c_int), intent(out) :: status
+    integer :: p
+    status = check_jumps(dim, np)
+    if (status /= BW_KERNEL_OK) return
+    ! E_p written out, as in bw_kernel_jumps
+    do p = 1, np
+      j_hi(:, p) = dg_hi(1:stresses(dim))
+      j_lo(:, p) = dg_lo(1:stresses(dim))
+      if (dim == 3) then
+        call dd_add_prod(j_hi(1, p), j_lo(1, p), eta(p), dg_hi(5), dg_lo(5))
+        call dd_add_prod(j_hi(2, p), j_lo(2, p), xi(p), dg_hi(6), dg_lo(6))
+        call dd_add_prod(j_hi(2, p), j_lo(2, p), -eta(p), dg_hi(4), dg_lo(4))
+        call dd_add_prod(j_hi(3, p), j_lo(3, p), -xi(p), dg_hi(5), dg_lo(5))
+      else
+        call dd_add_prod(j_hi(2, p), j_lo(2, p), xi(p), dg_hi(3), dg_lo(3))
+      end if
+    end do
+  end subroutine bw_kernel_jumps_dd
+
+  pure subroutine bw_kernel_resultants_dd(dim, np, area, xi, eta, r_hi, r_lo, f_hi, f_lo, status) &
+       bind(C, name="bw_kernel_resultants_dd")
+    integer(c_int), value, intent(in) :: dim, np
+    real(c_double), intent(in) :: area(np), xi(np), eta(np), r_hi(stresses(dim), np), r_lo(stresses(dim), np)
+    real(c_double), intent(out) :: f_hi(dofs(dim)), f_lo(dofs(dim))
+    integer(c_int), intent(out) :: status
+    real(c_double) :: th(3), tl(3)
+    integer :: p, a
+    status = check_portions(dim, np, area)
+    if (status /= BW_KERNEL_OK) return
+    f_hi = 0
+    f_lo = 0
+    ! E_p^T written out, as in bw_kernel_resultants: t = A_p r_p first
+    do p = 1, np
+      do a = 1, stresses(dim)
+        th(a) = 0
+        tl(a) = 0
+        call dd_add_prod(th(a), tl(a), area(p), r_hi(a, p), r_lo(a, p))
+        call dd_add(f_hi(a), f_lo(a), th(a), tl(a))
+      end do
+      if (dim == 3) then
+        call dd_add_prod(f_hi(4), f_lo(4), -eta(p), th(2), tl(2))
+        call dd_add_prod(f_hi(5), f_lo(5), eta(p), th(1), tl(1))
+        call dd_add_prod(f_hi(5), f_lo(5), -xi(p), th(3), tl(3))
+        call dd_add_prod(f_hi(6), f_lo(6), xi(p), th(2), tl(2))
+      else
+        call dd_add_prod(f_hi(3), f_lo(3), xi(p), th(2), tl(2))
+      end if
+    end do
+  end subroutine bw_kernel_resultants_dd
+
+  ! (h, l) += (y_hi + y_lo) in double-double
+  pure subroutine dd_add(h, l, y_hi, y_lo)
+    real(c_double), intent(inout) :: h, l
+    real(c_double), intent(in) :: y_hi, y_lo
+    real(c_double) :: s, t
+    call two_sum(h, y_hi, s, t)
+    t = t + (l + y_lo)
+    call two_sum(s, t, h, l)
+  end subroutine dd_add
+
+  ! (h, l) += x (y_hi + y_lo) in double-double
+  pure subroutine dd_add_prod(h, l, x, y_hi, y_lo)
+    real(c_double), intent(inout) :: h, l
+    real(c_double), intent(in) :: x, y_hi, y_lo
+    real(c_double) :: p, e, s, t
+    call two_prod(x, y_hi, p, e)
+    e = e + x * y_lo
+    call two_sum(h, p, s, t)
+    t = t + (l + e)
+    call two_sum(s, t, h, l)
+  end subroutine dd_add_prod
+
+  pure subroutine two_sum(a, b, s, e)
+    real(c_double), intent(in) :: a, b
+    real(c_double), intent(out) :: s, e
+    real(c_double) :: bb
+    s = a + b
+    bb = s - a
+    e = (a - (s - bb)) + (b - bb)
+  end subroutine two_sum
+
+  pure subroutine two_prod(a, b, p, e)
+    real(c_double), intent(in) :: a, b
+    real(c_double), intent(out) :: p, e
+    real(c_double), parameter :: split = 134217729.0_c_double ! 2^27 + 1
+    real(c_double) :: c, ah, al, bh, bl
+    p = a * b
+    c = split * a
+    ah = c - (c - a)
+    al = a - ah
+    c = split * b
+    bh = c - (c - b)
+    bl = b - bh
+    e = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+  end subroutine two_prod
 
   !> K_G = sum_p A_p E_p^T C_p E_p (C: double kg[nr][nr]) from the
   !! portions' ns x ns tangents, row-major (double tangent[nt][ns][ns]): nt =

@@ -29,6 +29,8 @@
 
 /* Hager-Higham iterations (each a pair of solves with the factor) */
 #define BW_CONDITION_ITERATIONS 4
+/* what the extra-precise estimate is multiplied by (BwSolverForwardExtra) */
+#define BW_EXTRA_SAFETY 10
 
 PetscErrorCode BwSolverForwardSetUp(BwSolver s)
 {
@@ -456,6 +458,23 @@ PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* What the estimates are relative to: the largest displacement of x in
+ * their norm (W), prescribed values included. */
+static PetscErrorCode BwSolverDisplacementSize(BwSolver s, Vec x, PetscReal *qn)
+{
+  IS  isq;
+  Vec xq;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwMixedGetFields(s->mx, NULL, &isq));
+  PetscCall(VecGetSubVector(x, isq, &xq));
+  PetscCall(VecPointwiseMult(s->fw_work, xq, s->fw_weight));
+  PetscCall(VecNorm(s->fw_work, NORM_INFINITY, qn));
+  PetscCall(VecRestoreSubVector(x, isq, &xq));
+  *qn = PetscMax(*qn, s->fw_prescribed);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* The same bound for a system too large to assemble (3D walls above 1e6
  * rows of K~), through the factor of S^ and D^ held by its structure
  * (BwMixedRoundoff*, operator.c): || W (|S~^-1 D^T| h_r + |S~^-1| h_q)
@@ -466,17 +485,17 @@ PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *
  * fly, so that nothing of the stresses' size is stored. It replaced the
  * normwise bound cond(S^) eps there, which on bench/large_wall3d.yaml
  * (bending out of its plane) claimed 1.3e-6 at 1e4 blocks and 3.6e-4 at
- * 1e5 (condition estimate 1.6e12): now 3.5e-9 and 3.0e-7 (0.15 and ~1.2 s
- * at those sizes, two Hager-Higham steps). Still a worst case: on such an
- * axis-parallel wall most products are by 0 or +-1 and exact, and
- * CHOLMOD on 1 rank, MUMPS on 2, CG + GAMG and D^ assembled (other
- * roundings) agree to 2.6e-14 at 1e5 blocks, so the run still warns
- * against forward_rtol 1e-10. tests/dim3/check_forward_bound.py compares
- * it with the whole system's bound. */
+ * 1e5 (condition estimate 1.6e12): this bound gives 3.5e-9 and 3.0e-7
+ * (0.15 and ~1.1 s at those sizes, two Hager-Higham steps). Still a worst
+ * case: on such an axis-parallel wall most products are by 0 or +-1 and
+ * exact, and CHOLMOD on 1 rank, MUMPS on 2, CG + GAMG and D^ assembled
+ * (other roundings) agree to 2.6e-14 at 1e5 blocks; auto takes the
+ * extra-precise estimate below there (-solver_forward_bound schur to have
+ * this one). tests/dim3/check_forward_bound.py compares it with the whole
+ * system's bound. */
 PetscErrorCode BwSolverForwardBoundSchur(BwSolver s, PC fpc, PetscBool symmetric, Vec b, Vec x, PetscReal *ferr)
 {
-  Vec       hq, v, t, acc, y, xq;
-  IS        isq;
+  Vec       hq, v, t, acc, y;
   PetscInt  N;
   PetscReal gamma, est = 0, l1r, ynorm, qn;
 
@@ -488,12 +507,7 @@ PetscErrorCode BwSolverForwardBoundSchur(BwSolver s, PC fpc, PetscBool symmetric
   PetscCall(VecDuplicate(hq, &acc));
   PetscCall(VecDuplicate(hq, &y));
   PetscCall(BwMixedRoundoffQ(s->mx, x, b, hq, &gamma));
-  PetscCall(BwMixedGetFields(s->mx, NULL, &isq));
-  PetscCall(VecGetSubVector(x, isq, &xq));
-  PetscCall(VecPointwiseMult(s->fw_work, xq, s->fw_weight));
-  PetscCall(VecNorm(s->fw_work, NORM_INFINITY, &qn));
-  PetscCall(VecRestoreSubVector(x, isq, &xq));
-  qn = PetscMax(qn, s->fw_prescribed);
+  PetscCall(BwSolverDisplacementSize(s, x, &qn));
   PetscCall(VecGetSize(v, &N));
   PetscCall(VecSet(v, 1.0 / N));
   for (PetscInt k = 0; k < BW_CONDITION_ITERATIONS; k++) {
@@ -524,5 +538,41 @@ PetscErrorCode BwSolverForwardBoundSchur(BwSolver s, PC fpc, PetscBool symmetric
   PetscCall(VecDestroy(&t));
   PetscCall(VecDestroy(&acc));
   PetscCall(VecDestroy(&y));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* An estimate of the displacement error from one residual computed in
+ * double-double (BwMixedResidualExtra, far below double's round-off):
+ * S~^-1 r_q is the error of x_q to first order (extra-precise iterative
+ * refinement's measure: Demmel, Hida, Kahan, Li, Mukherjee, Riedy, "Error
+ * bounds from extra-precise iterative refinement", ACM TOMS 32, 2006).
+ * Not a bound: the factor's solve is itself off by the refinement's
+ * contraction where S^ is ill-conditioned; over the stability suite's
+ * extreme cases (tests/stability, the true error from a real128 solve) it
+ * was within 1.5x of the true error where cond(K~) < 1e6, and off by up to
+ * 5.6x on the stiff clusters (cluster_1e6 6.4e-11 against 2.8e-10,
+ * cluster_1e12 6.2e-5 against 3.5e-4), hence the factor 10 the estimate
+ * carries. It does not see rounded data (a wall 1e6 m from the origin, its
+ * lever arms rounded: 2e-16 against 5e-10), which no residual does. Where
+ * the worst-case bound through the factor claimed 3.0e-7 on the bench's 3D
+ * wall of 1e5 blocks, this gives 1.7e-14, as the spread of four solvers and
+ * arithmetics there (2.6e-14) says. */
+PetscErrorCode BwSolverForwardExtra(BwSolver s, PC fpc, Vec b, Vec x, PetscReal *ferr)
+{
+  Vec       r, t;
+  PetscReal emax, qn;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwSolverForwardSetUp(s));
+  PetscCall(VecDuplicate(s->fw_weight, &r));
+  PetscCall(VecDuplicate(r, &t));
+  PetscCall(BwMixedResidualExtra(s->mx, x, b, r));
+  PetscCall(PCApply(fpc, r, t));
+  PetscCall(VecPointwiseMult(t, s->fw_weight, t));
+  PetscCall(VecNorm(t, NORM_INFINITY, &emax));
+  PetscCall(BwSolverDisplacementSize(s, x, &qn));
+  *ferr = qn > 0 ? BW_EXTRA_SAFETY * emax / qn : (emax > 0 ? PETSC_INFINITY : 0);
+  PetscCall(VecDestroy(&r));
+  PetscCall(VecDestroy(&t));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -82,7 +82,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
 {
   PetscInt                 method = s->requested, schur = s->schur, storage = s->storage, w = s->condition_when, fb = s->forward_bound;
   PetscBool                fset;
-  static const char *const when[] = {"auto", "always", "never"}, *bounds[] = {"auto", "whole", "schur"};
+  static const char *const when[] = {"auto", "always", "never"}, *bounds[] = {"auto", "whole", "schur", "extra"};
 
   PetscFunctionBeginUser;
   PetscCall(BwSceneHelpSection(scene, "Solver (scene key solver.*)"));
@@ -92,7 +92,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 5e4 blocks, or 2e5 when the analysis solves more than once; gamg above), cholesky, gamg (CG + GAMG) or hypre (CG + BoomerAMG)", 4, BwSchurSolves, &schur, NULL));
   PetscCall(BwSceneReal(scene, "-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", &s->forward_rtol, &fset));
   PetscCall(BwSceneEnum(scene, "-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance), always, never", 3, when, &w, NULL));
-  PetscCall(BwSceneEnum(scene, "-solver_forward_bound", "Round-off bound of the displacements, added to the forward estimate where the condition is estimated: auto (whole below 1e6 rows of K~ in 3D, else schur), whole (K~ assembled), schur (through S^'s factor, nothing of the stresses' size stored)", 3, bounds, &fb, NULL));
+  PetscCall(BwSceneEnum(scene, "-solver_forward_bound", "The round-off part of the forward estimate, where the condition is estimated: auto (whole below 1e6 rows of K~ in 3D, else extra), whole (LAPACK's bound, K~ assembled), schur (the same bound through S^'s factor, nothing of the stresses' size stored), extra (10 x the error that one residual in double-double shows)", 4, bounds, &fb, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_storage", "Saddle operator storage: shell (D^ by its structure), nest (D^ assembled) or aij (one assembled matrix)", 3, BwStorages, &storage, NULL));
   if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
   if (!fset) s->forward_rtol = s->rtol;
@@ -377,14 +377,19 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
           PetscCall(BwSolverConditionEstimate(fpc, A, (PetscBool)(set && sym), &s->condition_estimate));
           /* and what round-off in the factor allows: the refinement's
            * corrections alone can be the residual's noise */
-          PetscBool schur_bound = PETSC_FALSE;
-          if (s->forward_check && path->qspace && s->forward_bound != 1 && (s->forward_bound == 2 || !s->direct_fits)) PetscCall(BwMixedRoundoffSupported(s->mx, &schur_bound));
-          if (schur_bound) {
+          /* which round-off part: -solver_forward_bound, auto the whole
+           * system's bound where it can be assembled, else the
+           * extra-precise residual's estimate (estimates.c) */
+          PetscInt  how = s->forward_bound ? s->forward_bound : (s->direct_fits ? 1 : 3);
+          PetscBool shell = PETSC_FALSE;
+          if (s->forward_check && path->qspace && how >= 2) PetscCall(BwMixedRoundoffSupported(s->mx, &shell));
+          if (shell) {
             PetscReal bound;
-            PetscCall(BwSolverForwardBoundSchur(s, fpc, (PetscBool)(set && sym), b, x, &bound));
-            PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, round-off bound through the factor of S^ %.3e\n", (double)s->forward_estimate, (double)bound));
+            if (how == 2) PetscCall(BwSolverForwardBoundSchur(s, fpc, (PetscBool)(set && sym), b, x, &bound));
+            else PetscCall(BwSolverForwardExtra(s, fpc, b, x, &bound));
+            PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, round-off %s %.3e\n", (double)s->forward_estimate, how == 2 ? "bound through the factor of S^" : "estimate from a residual in double-double", (double)bound));
             s->forward_estimate = PetscMax(s->forward_estimate, bound);
-          } else if (s->forward_check && (s->direct_fits || s->forward_bound == 1)) {
+          } else if (s->forward_check && (s->direct_fits || how == 1)) {
             PetscReal bound;
             PetscCall(BwSolverForwardBound(s, path, x, &bound));
             PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, round-off bound from the factor %.3e\n", (double)s->forward_estimate, (double)bound));

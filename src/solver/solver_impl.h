@@ -28,7 +28,7 @@ struct _n_BwSolver {
   PetscInt     expected_solves; /* solves the analysis will make with one operator (BwSolverSetExpectedSolves) */
   PetscBool    direct_fits; /* small enough for a factorisation of the whole saddle matrix */
   PetscInt     condition_when; /* -solver_condition_estimate: 0 auto, 1 always, 2 never */
-  PetscInt     forward_bound;  /* -solver_forward_bound: 0 auto, 1 whole (K~ assembled), 2 schur (S^'s factor, D^ by its structure) */
+  PetscInt     forward_bound;  /* -solver_forward_bound: 0 auto, 1 whole (K~ assembled), 2 schur (S^'s factor, D^ by its structure), 3 extra (a residual in double-double) */
   PetscReal    forward_rtol;   /* -solver_forward_rtol, default solver.rtol */
   /* the paths, in the order auto tries them */
   BwPath       fieldsplit, cholesky, direct, condensed;
@@ -85,6 +85,8 @@ PetscErrorCode BwSolverConditionEstimate(PC pc, Mat A, PetscBool symmetric, Pets
 PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *ferr);
 /* The same without K assembled, through S^'s factor (estimates.c) */
 PetscErrorCode BwSolverForwardBoundSchur(BwSolver s, PC fpc, PetscBool symmetric, Vec b, Vec x, PetscReal *ferr);
+/* 10 x the error S~^-1 r_q from a residual in double-double (estimates.c) */
+PetscErrorCode BwSolverForwardExtra(BwSolver s, PC fpc, Vec b, Vec x, PetscReal *ferr);
 /* The factor a path used (the Schur complement's on fieldsplit, the whole
  * system's on direct) and the matrix it factors; NULL when it factored
  * nothing (CG + GAMG). */

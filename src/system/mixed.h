@@ -93,6 +93,9 @@ PetscErrorCode BwMixedStressesFromDofs(BwMixed mixed, Vec b, Vec x);
 PetscErrorCode BwMixedRoundoffSupported(BwMixed mixed, PetscBool *yes);
 PetscErrorCode BwMixedRoundoffQ(BwMixed mixed, Vec x, Vec b, Vec hq, PetscReal *gamma_r);
 PetscErrorCode BwMixedRoundoffSweep(BwMixed mixed, Vec x, Vec b, PetscReal gamma, Vec z, Vec acc, PetscReal *l1);
+/* r_q = b_q - P x_q + D^T (b_r - D^ x_q) in double-double, rounded once
+ * (operator.c), for the same operators. */
+PetscErrorCode BwMixedResidualExtra(BwMixed mixed, Vec x, Vec b, Vec rq);
 /* K as one AIJ matrix (new), for a direct factorisation. */
 PetscErrorCode BwMixedCreateAIJ(BwMixed mixed, Mat *aij);
 /* Rigid motions of the whole assembly in the scaled dofs (GAMG's near-null

@@ -23,6 +23,7 @@
 #include "system/mixed_impl.h"
 #include "util/compat.h"
 #include "blockwall/kernels.h"
+#include "util/dd.h"
 
 typedef struct {
   PetscInt   m, n;    /* most portions of an interface; owned interfaces */
@@ -919,6 +920,175 @@ PetscErrorCode BwMixedRoundoffSweep(BwMixed mx, Vec x, Vec b, PetscReal gamma, V
   PetscCall(VecRestoreSubVector(x, mx->isq, &xq));
   PetscCall(VecRestoreSubVector(x, mx->isr, &xr));
   PetscCallMPI(MPIU_Allreduce(&sum, l1, 1, MPIU_REAL, MPIU_SUM, mx->comm));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The block rows of the residual of the full system for stresses that
+ * solve their rows, r_q = b_q - P x_q + D^T (b_r - D^ x_q), in
+ * double-double and rounded once at the end: its error is far below
+ * double's round-off, so S~^-1 r_q is the error of x_q itself, not the
+ * noise of a residual computed in double (estimates.c). D^ as its factors
+ * are stored (W_k, the dof scales, sqrt(A_p), sqrt(k)), products exact;
+ * D^T the exact transpose of that (sqrt(A_p) where the products use A_p
+ * / sqrt(A_p)). Sums for other ranks' blocks travel as two doubles, hi and
+ * lo, added in double at the owner: exact where two ranks' nearly opposite
+ * sums meet, as on a partition's boundary. For the operators of
+ * BwMixedRoundoffSupported. */
+PetscErrorCode BwMixedResidualExtra(BwMixed mx, Vec x, Vec b, Vec rq)
+{
+  const PetscInt     nd = mx->nd, ns = mx->ns, mp = mx->portions.maxnp;
+  const int          dim = (int)mx->dim;
+  BwDShell          *ctx;
+  Vec                xq, br, bq, gh = NULL, gl = NULL, sh = NULL, sl = NULL;
+  const PetscScalar *xl, *xg = NULL, *bb, *bql, *pm;
+  PetscScalar       *ghi = NULL, *glo = NULL, *r;
+  PetscReal         *jh, *jl, *rh, *rl;
+  BwDD              *acc;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(mx->D, &ctx));
+  PetscCall(VecGetSubVector(x, mx->isq, &xq));
+  PetscCall(VecGetSubVector(b, mx->isr, &br));
+  PetscCall(VecGetSubVector(b, mx->isq, &bq));
+  if (ctx->scatter) {
+    PetscCall(VecScatterBegin(ctx->scatter, xq, ctx->ghost, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(ctx->scatter, xq, ctx->ghost, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecGetArrayRead(ctx->ghost, &xg));
+    PetscCall(VecDuplicate(ctx->ghost, &gh));
+    PetscCall(VecDuplicate(ctx->ghost, &gl));
+    PetscCall(VecZeroEntries(gh));
+    PetscCall(VecZeroEntries(gl));
+    PetscCall(VecGetArray(gh, &ghi));
+    PetscCall(VecGetArray(gl, &glo));
+  }
+  PetscCall(PetscCalloc1(mx->nq_local + 1, &acc));
+  PetscCall(PetscMalloc4(ns * mp, &jh, ns * mp, &jl, ns * mp, &rh, ns * mp, &rl));
+  PetscCall(VecGetArrayRead(xq, &xl));
+  PetscCall(VecGetArrayRead(br, &bb));
+  for (PetscInt e = 0; e < ctx->n; e++) {
+    const PetscInt   np  = ctx->np[e];
+    const PetscReal *sqa = ctx->portions->sqrt_area + ctx->first[e], *xi = ctx->portions->xi + ctx->first[e], *eta = ctx->portions->eta + ctx->first[e];
+    BwDD             dg[BW_MAX_ND] = {{0, 0}}, f[BW_MAX_ND];
+    PetscReal        dgh[BW_MAX_ND], dgl[BW_MAX_ND], fh[BW_MAX_ND], fl[BW_MAX_ND];
+    int              status;
+    /* dG = W_k q_k */
+    for (PetscInt s = 0; s < 2; s++) {
+      PetscInt           c = ctx->col[2 * e + s];
+      const PetscScalar *xv;
+      if (c < 0) continue;
+      xv = c < ctx->nq_local ? xl + c : xg + (c - ctx->nq_local);
+      if (dim == 2) {
+        const PetscReal *w = ctx->w + 2 * nd * nd * e;
+        for (PetscInt rr = 0; rr < nd; rr++)
+          for (PetscInt g = 0; g < nd; g++) dg[rr] = BwDDAdd(dg[rr], BwDDProd(w[2 * nd * rr + nd * s + g], PetscRealPart(xv[g])));
+      } else {
+        const PetscReal *Q = ctx->w + 27 * e, *M = Q + 9 * (s + 1), *sc = c < ctx->nq_local ? ctx->scl + c : ctx->scg + (c - ctx->nq_local);
+        const PetscReal  sign = s ? 1 : -1;
+        BwDD             v[6];
+        for (PetscInt g = 0; g < 6; g++) v[g] = BwDDProd(sc[g], PetscRealPart(xv[g]));
+        for (PetscInt rr = 0; rr < 3; rr++)
+          for (PetscInt g = 0; g < 3; g++) {
+            dg[rr]     = BwDDAdd(dg[rr], BwDDAdd(BwDDScale(sign * Q[3 * rr + g], v[g]), BwDDScale(M[3 * rr + g], v[3 + g])));
+            dg[3 + rr] = BwDDAdd(dg[3 + rr], BwDDScale(sign * Q[3 * rr + g], v[3 + g]));
+          }
+      }
+    }
+    for (PetscInt g = 0; g < nd; g++) dgh[g] = dg[g].hi, dgl[g] = dg[g].lo;
+    bw_kernel_jumps_dd(dim, (int)np, xi, eta, dgh, dgl, jh, jl, &status);
+    PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on an interface");
+    /* t = sqrt(k) (b_r - sqrt(A_p) sqrt(k) j), then D^T's sqrt(A_p) as the kernel's area */
+    for (PetscInt p = 0; p < np; p++)
+      for (PetscInt a = 0; a < ns; a++) {
+        PetscInt  i  = ns * p + a;
+        PetscReal sk = a == 1 ? ctx->skn[e] : ctx->skt[e];
+        BwDD      y  = BwDDScale(sqa[p], BwDDScale(sk, (BwDD){jh[i], jl[i]})), t;
+        t            = BwDDScale(sk, BwDDAdd((BwDD){PetscRealPart(bb[ctx->row[e] + i]), 0}, (BwDD){-y.hi, -y.lo}));
+        rh[i] = t.hi, rl[i] = t.lo;
+      }
+    bw_kernel_resultants_dd(dim, (int)np, sqa, xi, eta, rh, rl, fh, fl, &status);
+    PetscCheck(status == BW_KERNEL_OK, PETSC_COMM_SELF, PETSC_ERR_PLIB, "kernel failed on an interface");
+    for (PetscInt g = 0; g < nd; g++) f[g] = (BwDD){fh[g], fl[g]};
+    /* q_k += W_k^T f */
+    for (PetscInt s = 0; s < 2; s++) {
+      PetscInt c = ctx->col[2 * e + s];
+      BwDD     add[BW_MAX_ND] = {{0, 0}};
+      if (c < 0) continue;
+      if (dim == 2) {
+        const PetscReal *w = ctx->w + 2 * nd * nd * e;
+        for (PetscInt g = 0; g < nd; g++)
+          for (PetscInt rr = 0; rr < nd; rr++) add[g] = BwDDAdd(add[g], BwDDScale(w[2 * nd * rr + nd * s + g], f[rr]));
+      } else {
+        const PetscReal *Q = ctx->w + 27 * e, *M = Q + 9 * (s + 1), *sc = c < ctx->nq_local ? ctx->scl + c : ctx->scg + (c - ctx->nq_local);
+        const PetscReal  sign = s ? 1 : -1;
+        for (PetscInt g = 0; g < 3; g++) {
+          BwDD u = {0, 0}, m = {0, 0};
+          for (PetscInt rr = 0; rr < 3; rr++) {
+            u = BwDDAdd(u, BwDDScale(sign * Q[3 * rr + g], f[rr]));
+            m = BwDDAdd(m, BwDDAdd(BwDDScale(M[3 * rr + g], f[rr]), BwDDScale(sign * Q[3 * rr + g], f[3 + rr])));
+          }
+          add[g]     = BwDDScale(sc[g], u);
+          add[3 + g] = BwDDScale(sc[3 + g], m);
+        }
+      }
+      for (PetscInt g = 0; g < nd; g++) {
+        if (c < ctx->nq_local) acc[c + g] = BwDDAdd(acc[c + g], add[g]);
+        else {
+          BwDD sum = BwDDAdd((BwDD){PetscRealPart(ghi[c - ctx->nq_local + g]), PetscRealPart(glo[c - ctx->nq_local + g])}, add[g]);
+          ghi[c - ctx->nq_local + g] = sum.hi;
+          glo[c - ctx->nq_local + g] = sum.lo;
+        }
+      }
+    }
+  }
+  PetscCall(VecRestoreArrayRead(br, &bb));
+  PetscCall(VecRestoreArrayRead(xq, &xl));
+  PetscCall(PetscFree4(jh, jl, rh, rl));
+  if (ctx->scatter) {
+    PetscCall(VecRestoreArrayRead(ctx->ghost, &xg));
+    PetscCall(VecRestoreArray(gh, &ghi));
+    PetscCall(VecRestoreArray(gl, &glo));
+    PetscCall(VecDuplicate(rq, &sh));
+    PetscCall(VecDuplicate(rq, &sl));
+    PetscCall(VecZeroEntries(sh));
+    PetscCall(VecZeroEntries(sl));
+    PetscCall(VecScatterBegin(ctx->scatter, gh, sh, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(ctx->scatter, gh, sh, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterBegin(ctx->scatter, gl, sl, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(ctx->scatter, gl, sl, ADD_VALUES, SCATTER_REVERSE));
+    PetscCall(VecDestroy(&gh));
+    PetscCall(VecDestroy(&gl));
+  }
+  /* + b_q - P x_q, once rounded */
+  PetscCall(VecGetArrayRead(bq, &bql));
+  PetscCall(VecGetArrayRead(mx->pmask, &pm));
+  PetscCall(VecGetArrayRead(xq, &xl));
+  PetscCall(VecGetArray(rq, &r));
+  {
+    const PetscScalar *hv = NULL, *lv = NULL;
+    if (sh) {
+      PetscCall(VecGetArrayRead(sh, &hv));
+      PetscCall(VecGetArrayRead(sl, &lv));
+    }
+    for (PetscInt i = 0; i < mx->nq_local; i++) {
+      BwDD t = BwDDAdd(acc[i], BwDDTwoSum(PetscRealPart(bql[i]), -PetscRealPart(pm[i] * xl[i])));
+      if (sh) t = BwDDAdd(t, BwDDTwoSum(PetscRealPart(hv[i]), PetscRealPart(lv[i])));
+      r[i] = t.hi + t.lo;
+    }
+    if (sh) {
+      PetscCall(VecRestoreArrayRead(sh, &hv));
+      PetscCall(VecRestoreArrayRead(sl, &lv));
+    }
+  }
+  PetscCall(VecRestoreArray(rq, &r));
+  PetscCall(VecRestoreArrayRead(xq, &xl));
+  PetscCall(VecRestoreArrayRead(mx->pmask, &pm));
+  PetscCall(VecRestoreArrayRead(bq, &bql));
+  PetscCall(VecDestroy(&sh));
+  PetscCall(VecDestroy(&sl));
+  PetscCall(PetscFree(acc));
+  PetscCall(VecRestoreSubVector(b, mx->isq, &bq));
+  PetscCall(VecRestoreSubVector(b, mx->isr, &br));
+  PetscCall(VecRestoreSubVector(x, mx->isq, &xq));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -31,3 +31,11 @@ bw_py_test(stability.schur_bound stability stability/check_stability.py --option
            "-solver_forward_bound schur -solver_condition_estimate always"
            cluster_1e6 cluster_1e9 tenon_1e-3 tenon_1e-5 tenon_1e-5_vertical m1024_wall aspect_column_1e3 wall_kn_1e16)
 set_property(TEST stability.schur_bound APPEND PROPERTY ENVIRONMENT "BW_REFERENCE=$<TARGET_FILE:bw_reference>")
+# ... and with the estimate from one residual in double-double (auto's
+# choice where K~ is too large to assemble), on more cases: no bound, so
+# the true error is the judge of its factor 10.
+bw_py_test(stability.extra_estimate stability stability/check_stability.py --options
+           "-solver_forward_bound extra -solver_condition_estimate always"
+           cluster_1e6 cluster_1e9 cluster_1e12 tenon_1e-3 tenon_1e-5 tenon_1e-5_vertical m1024_wall aspect_column_1e3
+           wall_kn_1e16 m1024_two_blocks wall_random_1e9_12x8 wall_layered_1e7_20x12 contrast_layered_1e9 kt_kn_1e6)
+set_property(TEST stability.extra_estimate APPEND PROPERTY ENVIRONMENT "BW_REFERENCE=$<TARGET_FILE:bw_reference>")
