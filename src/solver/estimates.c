@@ -482,17 +482,16 @@ static PetscErrorCode BwSolverDisplacementSize(BwSolver s, Vec x, PetscReal *qn)
  * rows, estimated as the 1-norm of M = [diag(h_r) D^; diag(h_q)] S~^-T W
  * with Hager-Higham's iteration: each step one solve with the factor and
  * its transpose, and a pass over the stress rows that forms h_r on the
- * fly, so that nothing of the stresses' size is stored. It replaced the
- * normwise bound cond(S^) eps there, which on bench/large_wall3d.yaml
- * (bending out of its plane) claimed 1.3e-6 at 1e4 blocks and 3.6e-4 at
- * 1e5 (condition estimate 1.6e12): this bound gives 3.5e-9 and 3.0e-7
- * (0.15 and ~1.1 s at those sizes, two Hager-Higham steps). Still a worst
- * case: on such an axis-parallel wall most products are by 0 or +-1 and
- * exact, and CHOLMOD on 1 rank, MUMPS on 2, CG + GAMG and D^ assembled
- * (other roundings) agree to 2.6e-14 at 1e5 blocks; auto takes the
- * extra-precise estimate below there (-solver_forward_bound schur to have
- * this one). tests/dim3/check_forward_bound.py compares it with the whole
- * system's bound. */
+ * fly, so that nothing of the stresses' size is stored
+ * (-solver_forward_bound schur). Where the normwise bound cond(S^) eps
+ * claimed 1.3e-6 and 3.6e-4 on bench/large_wall3d.yaml at 1e4 and 1e5
+ * blocks (bending out of its plane, condition estimate 1.6e12 at 1e5), it
+ * gives 3.5e-9 and 3.0e-7 (0.15 and ~1.1 s, two Hager-Higham steps). Still
+ * a worst case: on such an axis-parallel wall most products are by 0 or
+ * +-1 and exact, and CHOLMOD on 1 rank, MUMPS on 2, CG + GAMG and D^
+ * assembled (other roundings) agree to 2.6e-14 at 1e5 blocks; auto takes
+ * the extra-precise estimate below. tests/dim3/check_forward_bound.py
+ * compares it with the whole system's bound. */
 PetscErrorCode BwSolverForwardBoundSchur(BwSolver s, PC fpc, PetscBool symmetric, Vec b, Vec x, PetscReal *ferr)
 {
   Vec       hq, v, t, acc, y;

@@ -92,7 +92,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 5e4 blocks, or 2e5 when the analysis solves more than once; gamg above), cholesky, gamg (CG + GAMG) or hypre (CG + BoomerAMG)", 4, BwSchurSolves, &schur, NULL));
   PetscCall(BwSceneReal(scene, "-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", &s->forward_rtol, &fset));
   PetscCall(BwSceneEnum(scene, "-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance), always, never", 3, when, &w, NULL));
-  PetscCall(BwSceneEnum(scene, "-solver_forward_bound", "The round-off part of the forward estimate, where the condition is estimated: auto (whole below 1e6 rows of K~ in 3D, else extra), whole (LAPACK's bound, K~ assembled), schur (the same bound through S^'s factor, nothing of the stresses' size stored), extra (10 x the error that one residual in double-double shows)", 4, bounds, &fb, NULL));
+  PetscCall(BwSceneEnum(scene, "-solver_forward_bound", "The round-off part of the forward estimate, where the condition is estimated: auto (extra where D^ is held by its structure, else whole; in 3D above 1e6 rows of K~ cond eps), whole (LAPACK's bound, K~ assembled), schur (the same bound through S^'s factor, nothing of the stresses' size stored), extra (10 x the error that one residual in double-double shows)", 4, bounds, &fb, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_storage", "Saddle operator storage: shell (D^ by its structure), nest (D^ assembled) or aij (one assembled matrix)", 3, BwStorages, &storage, NULL));
   if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
   if (!fset) s->forward_rtol = s->rtol;
@@ -377,10 +377,13 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
           PetscCall(BwSolverConditionEstimate(fpc, A, (PetscBool)(set && sym), &s->condition_estimate));
           /* and what round-off in the factor allows: the refinement's
            * corrections alone can be the residual's noise */
-          /* which round-off part: -solver_forward_bound, auto the whole
-           * system's bound where it can be assembled, else the
-           * extra-precise residual's estimate (estimates.c) */
-          PetscInt  how = s->forward_bound ? s->forward_bound : (s->direct_fits ? 1 : 3);
+          /* which round-off part: -solver_forward_bound; auto the
+           * extra-precise residual's estimate wherever the operator has it
+           * (estimates.c: it tracked the true error of every extreme case
+           * of the stability suite within 6x, where the worst-case bounds
+           * were up to 1e7 above it), else the whole system's bound where
+           * K~ can be assembled, else cond eps */
+          PetscInt  how = s->forward_bound ? s->forward_bound : 3;
           PetscBool shell = PETSC_FALSE;
           if (s->forward_check && path->qspace && how >= 2) PetscCall(BwMixedRoundoffSupported(s->mx, &shell));
           if (shell) {

@@ -2,7 +2,7 @@
 large to assemble (3D walls above 1e6 rows of K~; src/solver/estimates.c):
 the bound through the factor of S^ (-solver_forward_bound schur) against the
 same bound with K~ assembled (whole), and the estimate from one residual in
-double-double (extra, auto's choice there), on bench/large_wall3d.yaml
+double-double (extra, auto's choice), on bench/large_wall3d.yaml
 at 40 x 40 units (1 622 blocks, out-of-plane bending: S^'s condition ~1e8),
 the condition estimated and the bound added in every run, solver.method
 fieldsplit (the bounds exceed forward_rtol 1e-10 on this wall, and auto would
@@ -29,9 +29,8 @@ then try the direct path too):
            bound, a worst case (on this axis-parallel wall most products
            are by 0 or +-1 and exact, so far below it), and within 2x on 3
            ranks.
-  auto     on 60 x 60 units (3 632 blocks, 1.04e6 rows of K~, not assembled
-           by auto) the default takes the extra-precise estimate: equal to
-           the forced one.
+  auto     the default takes the extra-precise estimate: on 60 x 60 units
+           (3 632 blocks, 1.04e6 rows of K~) equal to the forced one.
 """
 import os
 import sys

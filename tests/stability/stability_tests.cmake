@@ -23,17 +23,18 @@ foreach(case ${BW_STABILITY_CASES})
   bw_py_test(stability.${case} stability stability/check_stability.py ${case})
   set_property(TEST stability.${case} APPEND PROPERTY ENVIRONMENT "BW_REFERENCE=$<TARGET_FILE:bw_reference>")
 endforeach()
-# The same asserts with the displacements' round-off bound taken through
-# S^'s factor (what auto uses where K~ is too large to assemble), on the
-# cases whose fieldsplit refinement needs the bound: it must still hold
-# the true error (point 5 of check_stability.py).
+# The same asserts with the displacements' worst-case round-off bound
+# taken through S^'s factor (-solver_forward_bound schur), on the cases
+# whose fieldsplit refinement needs the bound: it must still hold the true
+# error (point 5 of check_stability.py).
 bw_py_test(stability.schur_bound stability stability/check_stability.py --options
            "-solver_forward_bound schur -solver_condition_estimate always"
            cluster_1e6 cluster_1e9 tenon_1e-3 tenon_1e-5 tenon_1e-5_vertical m1024_wall aspect_column_1e3 wall_kn_1e16)
 set_property(TEST stability.schur_bound APPEND PROPERTY ENVIRONMENT "BW_REFERENCE=$<TARGET_FILE:bw_reference>")
 # ... and with the estimate from one residual in double-double (auto's
-# choice where K~ is too large to assemble), on more cases: no bound, so
-# the true error is the judge of its factor 10.
+# choice; the cases above run it where the refinement shows trouble) and
+# the condition estimated in every run: no bound, so the true error is the
+# judge of its factor 10.
 bw_py_test(stability.extra_estimate stability stability/check_stability.py --options
            "-solver_forward_bound extra -solver_condition_estimate always"
            cluster_1e6 cluster_1e9 cluster_1e12 tenon_1e-3 tenon_1e-5 tenon_1e-5_vertical m1024_wall aspect_column_1e3
