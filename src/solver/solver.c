@@ -104,7 +104,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   s->schur          = (BwSchurSolve)schur;
   s->storage        = (BwStorage)storage;
   s->condition_when = w;
-  s->forward_bound  = fb;
+  s->forward_bound  = (BwForwardBound)fb;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -383,16 +383,16 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
            * of the stability suite within 6x, where the worst-case bounds
            * were up to 1e7 above it), else the whole system's bound where
            * K~ can be assembled, else cond eps */
-          PetscInt  how = s->forward_bound ? s->forward_bound : 3;
-          PetscBool shell = PETSC_FALSE;
-          if (s->forward_check && path->qspace && how >= 2) PetscCall(BwMixedRoundoffSupported(s->mx, &shell));
+          BwForwardBound how   = s->forward_bound == BW_FORWARD_AUTO ? BW_FORWARD_EXTRA : s->forward_bound;
+          PetscBool      shell = PETSC_FALSE;
+          if (s->forward_check && path->qspace && (how == BW_FORWARD_SCHUR || how == BW_FORWARD_EXTRA)) PetscCall(BwMixedRoundoffSupported(s->mx, &shell));
           if (shell) {
             PetscReal bound;
-            if (how == 2) PetscCall(BwSolverForwardBoundSchur(s, fpc, (PetscBool)(set && sym), b, x, &bound));
+            if (how == BW_FORWARD_SCHUR) PetscCall(BwSolverForwardBoundSchur(s, fpc, (PetscBool)(set && sym), b, x, &bound));
             else PetscCall(BwSolverForwardExtra(s, fpc, b, x, &bound));
-            PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, round-off %s %.3e\n", (double)s->forward_estimate, how == 2 ? "bound through the factor of S^" : "estimate from a residual in double-double", (double)bound));
+            PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, round-off %s %.3e\n", (double)s->forward_estimate, how == BW_FORWARD_SCHUR ? "bound through the factor of S^" : "estimate from a residual in double-double", (double)bound));
             s->forward_estimate = PetscMax(s->forward_estimate, bound);
-          } else if (s->forward_check && (s->direct_fits || how == 1)) {
+          } else if (s->forward_check && (s->direct_fits || how == BW_FORWARD_WHOLE)) {
             PetscReal bound;
             PetscCall(BwSolverForwardBound(s, path, x, &bound));
             PetscCall(PetscInfo(path->ksp, "forward estimate from the refinement %.3e, round-off bound from the factor %.3e\n", (double)s->forward_estimate, (double)bound));

@@ -6,6 +6,8 @@
 
 /* solver.schur */
 typedef enum { BW_SCHUR_AUTO = 0, BW_SCHUR_CHOLESKY = 1, BW_SCHUR_GAMG = 2, BW_SCHUR_HYPRE = 3 } BwSchurSolve;
+/* -solver_forward_bound: how the round-off part of the forward estimate is found (estimates.c) */
+typedef enum { BW_FORWARD_AUTO = 0, BW_FORWARD_WHOLE = 1, BW_FORWARD_SCHUR = 2, BW_FORWARD_EXTRA = 3 } BwForwardBound;
 extern const char *const BwSchurSolves[];
 
 /* A path that ran or may run: its outer KSP, kept for the next solve. */
@@ -28,7 +30,7 @@ struct _n_BwSolver {
   PetscInt     expected_solves; /* solves the analysis will make with one operator (BwSolverSetExpectedSolves) */
   PetscBool    direct_fits; /* small enough for a factorisation of the whole saddle matrix */
   PetscInt     condition_when; /* -solver_condition_estimate: 0 auto, 1 always, 2 never */
-  PetscInt     forward_bound;  /* -solver_forward_bound: 0 auto, 1 whole (K~ assembled), 2 schur (S^'s factor, D^ by its structure), 3 extra (a residual in double-double) */
+  BwForwardBound forward_bound; /* whole: K~ assembled; schur: S^'s factor, D^ by its structure; extra: a residual in double-double */
   PetscReal    forward_rtol;   /* -solver_forward_rtol, default solver.rtol */
   /* the paths, in the order auto tries them */
   BwPath       fieldsplit, cholesky, direct, condensed;
