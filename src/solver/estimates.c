@@ -337,6 +337,23 @@ static PetscErrorCode BwMatAbsMult(Mat A, Vec x, Vec y)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* What the estimates are relative to: the largest displacement of x in
+ * their norm (W), prescribed values included. */
+static PetscErrorCode BwSolverDisplacementSize(BwSolver s, Vec x, PetscReal *qn)
+{
+  IS  isq;
+  Vec xq;
+
+  PetscFunctionBeginUser;
+  PetscCall(BwMixedGetFields(s->mx, NULL, &isq));
+  PetscCall(VecGetSubVector(x, isq, &xq));
+  PetscCall(VecPointwiseMult(s->fw_work, xq, s->fw_weight));
+  PetscCall(VecNorm(s->fw_work, NORM_INFINITY, qn));
+  PetscCall(VecRestoreSubVector(x, isq, &xq));
+  *qn = PetscMax(*qn, s->fw_prescribed);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* A bound on the displacement error that round-off leaves in a solution x
  * of the mixed system K~ x = b, however the refinement went (LAPACK's
  * xGERFS forward error bound, FERR). The refinement's fixed point is
@@ -409,16 +426,13 @@ PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *
     PetscCall(VecGetSubVector(w, isq, &wq));
     PetscCall(VecCopy(s->fw_weight, wq));
     PetscCall(VecRestoreSubVector(w, isq, &wq));
-    PetscCall(VecGetSubVector(x, isq, &xq));
   } else {
     PetscCall(VecGetSubVector(x, isq, &xq));
     PetscCall(VecCopy(xq, xa));
+    PetscCall(VecRestoreSubVector(x, isq, &xq));
     PetscCall(VecCopy(s->fw_weight, w));
   }
-  PetscCall(VecPointwiseMult(s->fw_work, xq, s->fw_weight));
-  PetscCall(VecNorm(s->fw_work, NORM_INFINITY, &qn));
-  PetscCall(VecRestoreSubVector(x, isq, &xq));
-  qn = PetscMax(qn, s->fw_prescribed);
+  PetscCall(BwSolverDisplacementSize(s, x, &qn));
   /* g = (nz + 1) eps |A| |x| */
   PetscCall(MatGetOwnershipRange(A, &rlo, &rhi));
   for (PetscInt i = rlo; i < rhi; i++) {
@@ -455,23 +469,6 @@ PetscErrorCode BwSolverForwardBound(BwSolver s, BwPath *path, Vec x, PetscReal *
   PetscCall(VecDestroy(&y));
   PetscCall(VecDestroy(&w));
   PetscCall(MatDestroy(&Aown));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* What the estimates are relative to: the largest displacement of x in
- * their norm (W), prescribed values included. */
-static PetscErrorCode BwSolverDisplacementSize(BwSolver s, Vec x, PetscReal *qn)
-{
-  IS  isq;
-  Vec xq;
-
-  PetscFunctionBeginUser;
-  PetscCall(BwMixedGetFields(s->mx, NULL, &isq));
-  PetscCall(VecGetSubVector(x, isq, &xq));
-  PetscCall(VecPointwiseMult(s->fw_work, xq, s->fw_weight));
-  PetscCall(VecNorm(s->fw_work, NORM_INFINITY, qn));
-  PetscCall(VecRestoreSubVector(x, isq, &xq));
-  *qn = PetscMax(*qn, s->fw_prescribed);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -209,9 +209,9 @@ static inline void BwDShellMultTransposeOne(BwDShell *ctx, PetscInt e, const Pet
   BwDShellMultTransposeOneAs(ctx, e, ye, ql, qg, dim, nd, ns, PETSC_FALSE);
 }
 
-static inline void BwDShellMultTransposeLoop(BwDShell *ctx, const PetscScalar *yy, PetscScalar *ql, PetscScalar *qg, const int dim, const PetscInt nd, const PetscInt ns)
+static inline void BwDShellMultTransposeLoop(BwDShell *ctx, const PetscScalar *yy, PetscScalar *ql, PetscScalar *qg, const int dim, const PetscInt nd, const PetscInt ns, const PetscBool absolute)
 {
-  for (PetscInt e = 0; e < ctx->n; e++) BwDShellMultTransposeOne(ctx, e, yy + ctx->row[e], ql, qg, dim, nd, ns);
+  for (PetscInt e = 0; e < ctx->n; e++) BwDShellMultTransposeOneAs(ctx, e, yy + ctx->row[e], ql, qg, dim, nd, ns, absolute);
 }
 
 static PetscErrorCode BwDShellMult(Mat A, Vec q, Vec y)
@@ -237,23 +237,22 @@ static PetscErrorCode BwDShellMult(Mat A, Vec q, Vec y)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode BwDShellMultTransposeAdd(Mat A, Vec y, Vec q0, Vec q)
+/* q += D^T y, or with absolute |D^T| |y| (the sizes of its terms, for the
+ * round-off bound below), the ghosts' sums sent to their owners. */
+static PetscErrorCode BwDShellTransposeAdd(BwDShell *ctx, Vec y, Vec q, PetscBool absolute)
 {
-  BwDShell          *ctx;
   const PetscScalar *yy;
   PetscScalar       *ql, *qg = NULL;
 
   PetscFunctionBeginUser;
-  PetscCall(MatShellGetContext(A, &ctx));
-  if (q0 != q) PetscCall(VecCopy(q0, q));
   if (ctx->scatter) {
     PetscCall(VecZeroEntries(ctx->ghost));
     PetscCall(VecGetArray(ctx->ghost, &qg));
   }
   PetscCall(VecGetArray(q, &ql));
   PetscCall(VecGetArrayRead(y, &yy));
-  if (ctx->dim == 2) BwDShellMultTransposeLoop(ctx, yy, ql, qg, 2, 3, 2);
-  else BwDShellMultTransposeLoop(ctx, yy, ql, qg, 3, 6, 3);
+  if (ctx->dim == 2) BwDShellMultTransposeLoop(ctx, yy, ql, qg, 2, 3, 2, absolute);
+  else BwDShellMultTransposeLoop(ctx, yy, ql, qg, 3, 6, 3, absolute);
   PetscCall(VecRestoreArrayRead(y, &yy));
   PetscCall(VecRestoreArray(q, &ql));
   if (ctx->scatter) {
@@ -261,6 +260,17 @@ static PetscErrorCode BwDShellMultTransposeAdd(Mat A, Vec y, Vec q0, Vec q)
     PetscCall(VecScatterBegin(ctx->scatter, ctx->ghost, q, ADD_VALUES, SCATTER_REVERSE));
     PetscCall(VecScatterEnd(ctx->scatter, ctx->ghost, q, ADD_VALUES, SCATTER_REVERSE));
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode BwDShellMultTransposeAdd(Mat A, Vec y, Vec q0, Vec q)
+{
+  BwDShell *ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &ctx));
+  if (q0 != q) PetscCall(VecCopy(q0, q));
+  PetscCall(BwDShellTransposeAdd(ctx, y, q, PETSC_FALSE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -775,10 +785,8 @@ PetscErrorCode BwMixedRoundoffSupported(BwMixed mx, PetscBool *yes)
  * bound grew a hundredfold. */
 PetscErrorCode BwMixedRoundoffQ(BwMixed mx, Vec x, Vec b, Vec hq, PetscReal *gamma_r)
 {
-  BwDShell          *ctx;
-  Vec                xr, xq, br, bq, a;
-  const PetscScalar *yy;
-  PetscScalar       *al, *ag = NULL;
+  BwDShell *ctx;
+  Vec       xr, xq, br, bq, a;
 
   PetscFunctionBeginUser;
   *gamma_r = (2 * mx->nd + 6) * PETSC_MACHINE_EPSILON;
@@ -792,26 +800,10 @@ PetscErrorCode BwMixedRoundoffQ(BwMixed mx, Vec x, Vec b, Vec hq, PetscReal *gam
   PetscCall(MatMultTransposeAdd(mx->D, xr, hq, hq));
   PetscCall(VecAYPX(hq, -1.0, bq));
   PetscCall(VecAbs(hq));
-  /* |D^T| |x_r|, an interface at a time, the ghosts' sums sent back */
+  /* |D^T| |x_r| */
   PetscCall(VecDuplicate(hq, &a));
   PetscCall(VecZeroEntries(a));
-  if (ctx->scatter) {
-    PetscCall(VecZeroEntries(ctx->ghost));
-    PetscCall(VecGetArray(ctx->ghost, &ag));
-  }
-  PetscCall(VecGetArray(a, &al));
-  PetscCall(VecGetArrayRead(xr, &yy));
-  for (PetscInt e = 0; e < ctx->n; e++) {
-    if (mx->dim == 2) BwDShellMultTransposeOneAs(ctx, e, yy + ctx->row[e], al, ag, 2, 3, 2, PETSC_TRUE);
-    else BwDShellMultTransposeOneAs(ctx, e, yy + ctx->row[e], al, ag, 3, 6, 3, PETSC_TRUE);
-  }
-  PetscCall(VecRestoreArrayRead(xr, &yy));
-  PetscCall(VecRestoreArray(a, &al));
-  if (ctx->scatter) {
-    PetscCall(VecRestoreArray(ctx->ghost, &ag));
-    PetscCall(VecScatterBegin(ctx->scatter, ctx->ghost, a, ADD_VALUES, SCATTER_REVERSE));
-    PetscCall(VecScatterEnd(ctx->scatter, ctx->ghost, a, ADD_VALUES, SCATTER_REVERSE));
-  }
+  PetscCall(BwDShellTransposeAdd(ctx, xr, a, PETSC_TRUE));
   {
     PetscScalar       *av, *h;
     const PetscScalar *xv, *bv, *pv;
