@@ -319,6 +319,8 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   path->ran             = PETSC_TRUE;
   s->forward_estimate   = -1; /* not estimated unless the convergence test runs */
   s->condition_estimate = -1;
+  s->at_floor           = PETSC_FALSE;
+  s->residual_floor     = -1;
   s->iterations         = 0;
   PetscCall(VecZeroEntries(x));
   /* a PETSc error in a solver is a failed path: caught, not raised */
@@ -437,9 +439,14 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     PetscBool stalled = (pcr == PC_NOERROR && npiv == 0 && (kr == KSP_DIVERGED_ITS || kr == KSP_DIVERGED_DTOL)) ? PETSC_TRUE : PETSC_FALSE;
     /* stagnation at the round-off floor of an ill-conditioned system */
     *usable = stalled && s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
-    if (stalled && s->floor_stall && !(s->check.residual <= s->rtol))
+    if (stalled && s->floor_stall && !(s->check.residual <= s->rtol)) {
       PetscCall(PetscSNPrintf(reason, len, "%s stopped at the round-off floor of the residual after %" PetscInt_FMT " steps: true residual %.3e, estimated displacement error %.1e", path->name, s->iterations, (double)s->check.residual, (double)s->forward_estimate));
-    else if (stalled && s->check.residual <= s->rtol)
+      if (s->at_floor) {
+        char more[96];
+        PetscCall(PetscSNPrintf(more, sizeof(more), " (eps |S~| |q| / |b| %.1e)", (double)s->residual_floor));
+        PetscCall(PetscStrlcat(reason, more, len));
+      }
+    } else if (stalled && s->check.residual <= s->rtol)
       PetscCall(PetscSNPrintf(reason, len, "%s: the refinement's corrections did not settle in %" PetscInt_FMT " steps: estimated displacement error %.1e above solver.forward_rtol %.1e (true residual %.3e)", path->name, s->iterations, (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual));
     else
       PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", path->name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
@@ -454,6 +461,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     PetscCall(PetscSNPrintf(reason, len, "%s: estimated displacement error %.1e (round-off bound of the factor, condition estimate %.1e) above solver.forward_rtol %.1e (true residual %.3e)", path->name, (double)s->forward_estimate, (double)s->condition_estimate, (double)s->forward_rtol, (double)s->check.residual));
     *usable = PETSC_TRUE;
   } else *ok = *usable = PETSC_TRUE;
+  if (*ok) s->at_floor = PETSC_FALSE; /* met: no floor to name */
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -469,6 +477,7 @@ typedef struct {
   PetscInt  its;
   PetscReal   fwd, cond;
   const char *schur;
+  PetscReal   floor; /* the residual's floor where its refinement stopped there (estimates.c), else -1 */
 } BwBest;
 
 static PetscErrorCode BwSolverKeepBest(BwSolver s, BwMethod method, Vec x, BwBest *best)
@@ -486,6 +495,7 @@ static PetscErrorCode BwSolverKeepBest(BwSolver s, BwMethod method, Vec x, BwBes
   best->fwd    = s->forward_estimate;
   best->cond   = s->condition_estimate;
   best->schur  = s->schur_used;
+  best->floor  = s->at_floor ? s->residual_floor : -1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -506,13 +516,15 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
 {
   PetscBool ok = PETSC_FALSE, usable;
   char      reason[512] = "";
-  BwBest    best = {NULL, PETSC_FALSE, PETSC_FALSE, {0, 0, 0, 0}, BW_METHOD_FIELDSPLIT, 0, -1, -1, NULL};
+  BwBest    best = {NULL, PETSC_FALSE, PETSC_FALSE, {0, 0, 0, 0}, BW_METHOD_FIELDSPLIT, 0, -1, -1, NULL, -1};
 
   PetscFunctionBeginUser;
   s->fallback           = PETSC_FALSE;
   s->fallback_reason[0] = 0;
   s->warning[0]         = 0;
   s->accuracy_met       = PETSC_TRUE;
+  s->at_floor           = PETSC_FALSE;
+  s->residual_floor     = -1;
   if (s->trivial) {
     /* K = -I (stress rows only): x = -b, exactly; the displacements are
      * the prescribed ones, exactly too */
@@ -614,11 +626,19 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     s->forward_estimate   = best.fwd;
     s->condition_estimate = best.cond;
     s->accuracy_met       = PETSC_FALSE;
+    s->at_floor           = best.floor > 0 ? PETSC_TRUE : PETSC_FALSE;
+    s->residual_floor     = best.floor;
     if (best.cond > 0) PetscCall(PetscSNPrintf(cond, sizeof(cond), ", condition estimate %.1e", (double)best.cond));
     if (s->check.residual <= s->rtol)
       PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "estimated displacement error %.1e misses solver.forward_rtol %.1e (true residual %.3e%s): the system is too ill-conditioned for that accuracy in double precision; the answer written is the best of the paths tried (%s)", (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual, cond, BwMethods[best.method]));
     else
       PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "true residual %.3e misses solver.rtol %.1e (estimated displacement error %.1e%s): the system is too ill-conditioned for that tolerance in double precision; the answer written is the best of the paths tried (%s)", (double)s->check.residual, (double)s->rtol, (double)s->forward_estimate, cond, BwMethods[best.method]));
+    if (best.floor > 0 && !(s->check.residual <= s->rtol)) {
+      /* why: the residual that rounding the displacements to double leaves */
+      char more[200];
+      PetscCall(PetscSNPrintf(more, sizeof(more), "; rounding the displacements to double alone leaves a residual up to %.1e here, so no double-precision answer meets rtol (the stresses recovered from them carry that rounding)", (double)best.floor));
+      PetscCall(PetscStrlcat(s->warning, more, sizeof(s->warning)));
+    }
     ok = PETSC_TRUE;
   }
   PetscCall(VecDestroy(&best.x));
@@ -652,6 +672,7 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
   PetscCall(BwReportString(r, "warning", s->warning));
   PetscCall(BwReportReal(r, "rtol", s->rtol));
   PetscCall(BwReportReal(r, "residual", s->check.residual));
+  PetscCall(BwReportReal(r, "residual_floor", s->at_floor ? s->residual_floor : -1));
   PetscCall(BwReportReal(r, "residual_equilibrium", s->check.equilibrium));
   PetscCall(BwReportReal(r, "residual_compatibility", s->check.compatibility));
   PetscCall(BwReportReal(r, "forward_rtol", s->forward_rtol));

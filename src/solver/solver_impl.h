@@ -49,7 +49,7 @@ struct _n_BwSolver {
   PetscBool    fallback;
   char         fallback_reason[512];
   PetscBool    accuracy_met;
-  char         warning[640];
+  char         warning[1024];
   PetscInt     iterations;
   BwCheck      check;
   PetscReal    forward_estimate;   /* forward error of the displacements, from the refinement; -1 not estimated */
@@ -60,6 +60,8 @@ struct _n_BwSolver {
   PetscInt     fw_it;
   PetscReal    fw_rprev;    /* the last step's residual norm */
   PetscBool    floor_stall; /* the last refinement stopped at the residual's round-off floor, its displacements within forward_rtol */
+  PetscBool    at_floor;       /* the last refinement stopped within the floor that rounding q to double leaves (BwMixedSchurTermsNorm) */
+  PetscReal    residual_floor; /* that floor relative to |b|, as the residual; -1 not measured */
 };
 
 /* schur.c: the Schur PC on an outer KSP, its Schur solve with prefix

@@ -91,6 +91,9 @@ PetscErrorCode BwMixedStressesFromDofs(BwMixed mixed, Vec b, Vec x);
  * the stress rows' gamma_r; and one pass over the stress rows for the bound's estimate
  * (*l1 and acc = D^T (h_r .* sign(h_r .* D^ z))). */
 PetscErrorCode BwMixedRoundoffSupported(BwMixed mixed, PetscBool *yes);
+/* ||(|w| + |P| |q| + |D^T| |D^| |q|)||_2: eps times it is the floor of the
+ * residual w - S~ q that rounding q to double leaves (operator.c). */
+PetscErrorCode BwMixedSchurTermsNorm(BwMixed mixed, Vec q, Vec w, PetscReal *norm);
 PetscErrorCode BwMixedRoundoffQ(BwMixed mixed, Vec x, Vec b, Vec hq, PetscReal *gamma_r);
 PetscErrorCode BwMixedRoundoffSweep(BwMixed mixed, Vec x, Vec b, PetscReal gamma, Vec z, Vec acc, PetscReal *l1);
 /* r_q = b_q - P x_q + D^T (b_r - D^ x_q) in double-double, rounded once

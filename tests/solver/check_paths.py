@@ -17,7 +17,11 @@
             steps (not at its 30-step limit), `auto` does not factor S^
             (two set-ups: GAMG and the direct path, which stops at its own
             floor), the reason names the floor, accuracy_met 0, and the
-            answer equals the direct path's to 1e-10
+            answer equals the direct path's to 1e-10. The floor is measured:
+            rounding the displacements to double alone leaves a residual up
+            to eps |S~| |q| / |b| (solvers.md), which the residual reached
+            is within (5-7x below it measured, 2D and 3D): the warning and
+            /solver residual_floor give that floor
   warn      a tolerance below double precision's reach (rtol 1e-18) is missed
             by every path: the run still writes the best answer, says so on
             stdout (WARNING) and in /solver (accuracy_met 0, warning), and
@@ -122,9 +126,12 @@ def floor():
     expect("round-off floor" in s["fallback_reason"], f"the reason does not name the floor: {s['fallback_reason']!r}")
     expect(s["setups"] == 2, f"{s['setups']} set-ups: S^ was factored after the floor (want GAMG and direct only)")
     expect(s["accuracy_met"] == 0 and "misses solver.rtol" in s["warning"], f"no warning recorded: {s}")
+    fl, r = float(s["residual_floor"]), float(s["residual"])
+    expect(1e-16 < r <= fl <= 1e3 * r and "leaves a residual up to" in s["warning"],
+           f"residual {r:.2e}, its floor {fl:.2e} (want r <= floor <= 1e3 r), warning {s['warning']!r}")
     e = rel_err(res["blocks/displacement"], ref["blocks/displacement"])
     expect(e < 1e-10, f"answer vs the direct path {e:.2e}")
-    print(f"stopped at the floor: {s['fallback_reason']}; {s['setups']} set-ups; error {e:.1e} against direct")
+    print(f"stopped at the floor: {s['fallback_reason']}; {s['setups']} set-ups; floor {fl:.1e}; error {e:.1e} against direct")
 
 
 def warn():
