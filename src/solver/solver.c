@@ -636,7 +636,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     if (best.floor > 0 && !(s->check.residual <= s->rtol)) {
       /* why: the residual that rounding the displacements to double leaves */
       char more[200];
-      PetscCall(PetscSNPrintf(more, sizeof(more), "; rounding the displacements to double alone leaves a residual up to %.1e here, so no double-precision answer meets rtol (the stresses recovered from them carry that rounding)", (double)best.floor));
+      PetscCall(PetscSNPrintf(more, sizeof(more), "; rounding the displacements to double alone leaves a residual up to %.1e here, so double precision cannot be expected to meet rtol (the stresses recovered from them carry that rounding)", (double)best.floor));
       PetscCall(PetscStrlcat(s->warning, more, sizeof(s->warning)));
     }
     ok = PETSC_TRUE;
