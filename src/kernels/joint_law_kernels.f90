@@ -219,6 +219,11 @@ contains
     if (.not. law%soft) then
       s = law%sp
       ds = ZERO
+    else if (k <= ZERO) then
+      ! before the cap has flowed (most portions): the branch below at q = w = 0,
+      ! without its division and square root
+      s = law%si
+      ds = huge(ONE)
     else if (k <= law%kp) then
       q = max(k / law%kp, ZERO)
       w = sqrt(max(2 * q - q * q, ZERO))
@@ -254,12 +259,17 @@ contains
     type(law_t), intent(in) :: law
     real(c_double), intent(in) :: k(2)
     real(c_double) :: s(2)
-    integer :: i
-    do i = 1, 2
-      s(i) = law%s0(i)
-      if (law%rate(i) * k(i) /= ZERO) s(i) = law%s0(i) * exp(min(-law%rate(i) * k(i), MAXEXP))
-    end do
+    s(1) = strength1(law%s0(1), law%rate(1), k(1))
+    s(2) = strength1(law%s0(2), law%rate(2), k(2))
   end function strength
+
+  ! One strength, s0 exp(-rate k).
+  pure function strength1(s0, rate, k) result(s)
+    real(c_double), intent(in) :: s0, rate, k
+    real(c_double) :: s
+    s = s0
+    if (rate * k /= ZERO) s = s0 * exp(min(-rate * k, MAXEXP))
+  end function strength1
 
   pure function dstrength(law, k) result(ds)
     type(law_t), intent(in) :: law
@@ -315,25 +325,31 @@ contains
   ! root is bracketed and unique: Newton steps, bisecting when one leaves the bracket
   ! (so that a local snap-back, g' > 0, cannot lose it). When g(lo) < 0 the surface is
   ! not loaded on the admissible side and x0 is returned, for the active-set test to
-  ! reject.
-  pure subroutine scalar_root(g0, nca, s0, rate, k0, xmin, sig, x, ok)
-    real(c_double), intent(in) :: g0, nca, s0, rate, k0, xmin, sig
-    real(c_double), intent(out) :: x
+  ! reject. sk0 is the strength at k0 (strength1(s0, rate, k0), which the callers have),
+  ! sx the strength at k0 + x on return, the same numbers as strength1 there: the
+  ! exponentials are the law's cost, and each is computed once.
+  pure subroutine scalar_root(g0, nca, s0, rate, k0, sk0, xmin, sig, x, sx, ok)
+    real(c_double), intent(in) :: g0, nca, s0, rate, k0, sk0, xmin, sig
+    real(c_double), intent(out) :: x, sx
     logical, intent(out) :: ok
-    real(c_double) :: x0, lo, hi, g, dg, sx, xn
+    real(c_double) :: x0, lo, hi, g, dg, xn
     integer :: it
     ok = .true.
-    x0 = (g0 - s0 * exp(min(-rate * k0, MAXEXP))) / nca
+    x0 = (g0 - sk0) / nca
     x = x0
+    sx = s0 ! without softening
     if (.not. (rate > 0)) return
     lo = max(x0, xmin)
-    sx = s0 * exp(min(-rate * (k0 + lo), MAXEXP))
-    if (g0 - nca * lo - sx < 0) return
+    sx = strength1(s0, rate, k0 + lo)
+    if (g0 - nca * lo - sx < 0) then
+      if (lo /= x0) sx = strength1(s0, rate, k0 + x0)
+      return
+    end if
     hi = max(g0 / nca, lo)
     x = lo
     do it = 1, MAXIT
       ! the strength at x (at lo, the first time, from the test above)
-      if (it > 1) sx = s0 * exp(min(-rate * (k0 + x), MAXEXP))
+      if (it > 1) sx = strength1(s0, rate, k0 + x)
       g = g0 - nca * x - sx
       if (abs(g) <= RTOL * sig) return
       if (g > 0) then
@@ -370,7 +386,7 @@ contains
     real(c_double), intent(in) :: s(2)
     real(c_double), intent(out) :: t(2, 2)
     logical, intent(out) :: ok
-    real(c_double) :: a(2, 2), ainv(2, 2), nc(2, 2), ds(2), det
+    real(c_double) :: a(2, 2), ainv(2, 2), nc(2, 2), ds(2), det, an(2)
     integer :: i, j, m
     m = size(set)
     ds = -law%rate * s
@@ -404,29 +420,40 @@ contains
       ainv(2, 1) = -a(2, 1) / det
       ainv(1, 2) = -a(1, 2) / det
       ainv(2, 2) = a(1, 1) / det
-      t = t - matmul(law%cm(:, set), matmul(ainv, nc))
+      ! t - C M A^-1 N^T C written out: matmul on law%cm(:, set) copies the section
+      ! into a temporary on the heap at every call
+      do j = 1, 2
+        an(1) = ainv(1, 1) * nc(1, j) + ainv(1, 2) * nc(2, j)
+        an(2) = ainv(2, 1) * nc(1, j) + ainv(2, 2) * nc(2, j)
+        do i = 1, 2
+          t(i, j) = t(i, j) - (law%cm(i, set(1)) * an(1) + law%cm(i, set(2)) * an(2))
+        end do
+      end do
     end if
   end subroutine consistent_tangent
 
-  pure function single_return(law, rtr, kin, sig, a) result(cand)
+  ! skin = strength(law, kin)
+  pure function single_return(law, rtr, kin, skin, sig, a) result(cand)
     type(law_t), intent(in) :: law
-    real(c_double), intent(in) :: rtr(2), kin(2), sig
+    real(c_double), intent(in) :: rtr(2), kin(2), skin(2), sig
     integer, intent(in) :: a
     type(candidate_t) :: cand
-    real(c_double) :: nca, g0, x, s(2), rn
+    real(c_double) :: nca, g0, x, s(2), rn, sx
     integer :: i
     logical :: ok
     i = KVAR(a)
     nca = dot_product(law%nv(:, a), law%cm(:, a)) ! kn, or kt + kn tanphi tanpsi
     g0 = dot_product(law%nv(:, a), rtr)
-    call scalar_root(g0, nca, law%s0(i), law%rate(i), kin(i), ZERO, sig, x, ok)
+    call scalar_root(g0, nca, law%s0(i), law%rate(i), kin(i), skin(i), ZERO, sig, x, sx, ok)
     if (.not. ok) then
       cand%failed = .true.
       return
     end if
     cand%dl(a) = x
     cand%k = advance(kin, cand%dl)
-    s = strength(law, cand%k)
+    ! strength(law, cand%k): the other variable is kin's, this one the root's
+    s = skin
+    s(i) = sx
     cand%s = s
     ! the stress placed on the surface itself, to round-off
     if (a == 1) then
@@ -470,22 +497,26 @@ contains
     res = f(set)
   end subroutine pair_residual_at
 
-  ! dependent: the pair's gradients or flows are dependent, the set is skipped
-  pure subroutine pair_return(law, rtr, kin, sig, set, cand, dependent)
+  ! dependent: the pair's gradients or flows are dependent, the set is skipped;
+  ! skin = strength(law, kin)
+  pure subroutine pair_return(law, rtr, kin, skin, sig, set, cand, dependent)
     type(law_t), intent(in) :: law
-    real(c_double), intent(in) :: rtr(2), kin(2), sig
+    real(c_double), intent(in) :: rtr(2), kin(2), skin(2), sig
     integer, intent(in) :: set(2)
     type(candidate_t), intent(out) :: cand
     logical, intent(out) :: dependent
-    real(c_double) :: a0(2, 2), a(2, 2), x(2), step(2), trial(2), res(2), rtrial(2), ds(2), s(2), alpha, l, d
+    real(c_double) :: a0(2, 2), a(2, 2), x(2), step(2), trial(2), res(2), rtrial(2), ds(2), s(2), alpha, l, d, f(3), sl
     integer :: i, j, it, h
-    logical :: ok, converged
+    logical :: ok, converged, have_s
     do j = 1, 2
       do i = 1, 2
         a0(i, j) = dot_product(law%nv(:, set(i)), law%cm(:, set(j)))
       end do
     end do
-    res = pair_residual(law, rtr, kin, set, [ZERO, ZERO])
+    ! pair_residual at zero multipliers: the trial's surfaces
+    f = surfaces_at(law, rtr, skin)
+    res = f(set)
+    have_s = .false.
     call solve2(a0, res, x, ok)
     dependent = .not. ok
     if (dependent) return
@@ -493,7 +524,8 @@ contains
       ! apex: rt = 0 fixes d = dl2+ - dl2- = rt_tr / kt, and rn tanphi = c(k2 + l) is a
       ! scalar equation in the sum l = dl2+ + dl2-, admissible from |d| on
       d = rtr(1) / law%kt
-      call scalar_root(law%tphi * rtr(2), law%kn * law%tpsi * law%tphi, law%s0(2), law%rate(2), kin(2), abs(d), sig, l, ok)
+      call scalar_root(law%tphi * rtr(2), law%kn * law%tpsi * law%tphi, law%s0(2), law%rate(2), kin(2), skin(2), abs(d), &
+           sig, l, sl, ok)
       x = HALF * [l + d, l - d]
       if (.not. ok) then
         cand%failed = .true.
@@ -502,10 +534,11 @@ contains
     else if (set(1) == 1 .and. law%tpsi <= 0 .and. any(law%rate > 0)) then
       ! corner without dilatancy: the cut-off's equation does not involve dl2, so two
       ! scalar equations in turn, dl1 on the cut-off, then dl2 on the cone with rn = ft
-      call scalar_root(rtr(2), law%kn, law%s0(1), law%rate(1), kin(1), ZERO, sig, x(1), ok)
-      s = strength(law, [kin(1) + x(1), kin(2)])
-      call scalar_root(law%mv(1, set(2)) * rtr(1) + law%tphi * s(1), law%kt, law%s0(2), law%rate(2), kin(2), ZERO, &
-           sig, x(2), converged)
+      call scalar_root(rtr(2), law%kn, law%s0(1), law%rate(1), kin(1), skin(1), ZERO, sig, x(1), s(1), ok)
+      call scalar_root(law%mv(1, set(2)) * rtr(1) + law%tphi * s(1), law%kt, law%s0(2), law%rate(2), kin(2), skin(2), &
+           ZERO, sig, x(2), s(2), converged)
+      ! the strengths at kin + (x(1), x(2)): strength(law, cand%k) below
+      have_s = .true.
       if (.not. (ok .and. converged)) then
         cand%failed = .true.
         return
@@ -548,7 +581,7 @@ contains
     end if
     cand%dl = unpack_pair(set, x)
     cand%k = advance(kin, cand%dl)
-    s = strength(law, cand%k)
+    if (.not. have_s) s = strength(law, cand%k)
     cand%s = s
     ! the stress at the intersection of the two surfaces, to round-off
     if (set(1) == 1) then
@@ -621,10 +654,18 @@ contains
 
     rtr = [law%kt * (jump(1) - state(1)), law%kn * (jump(2) - state(2))]
     kin = state(3:4)
-    s = strength(law, kin)
-    sig = max(abs(rtr(1)), abs(rtr(2)) * max(ONE, law%tphi), s(1), s(2))
-    ftr = surfaces_at(law, rtr, s)
     status = BW_LAW_OK
+    ! A trial inside the cone's compressive part, n_a.r_tr <= 0 for every surface, is
+    ! elastic whatever the strengths s >= 0 are (f_a = n_a.r_tr - s_a <= 0 in floating
+    ! point too): their exponentials are left out (a closed crack under compression).
+    ftr = surfaces_at(law, rtr, [ZERO, ZERO])
+    if (all(ftr <= ZERO)) then
+      s = ZERO
+    else
+      s = strength(law, kin)
+      ftr = surfaces_at(law, rtr, s)
+    end if
+    sig = max(abs(rtr(1)), abs(rtr(2)) * max(ONE, law%tphi), s(1), s(2))
     if (all(ftr <= RTOL * sig)) then
       r = rtr
       t(:, 1) = [law%kt, ZERO]
@@ -637,7 +678,7 @@ contains
     have_backup = .false.
     do a = 1, 3
       if (ftr(a) <= RTOL * sig) cycle
-      cand = single_return(law, rtr, kin, sig, a)
+      cand = single_return(law, rtr, kin, s, sig, a)
       if (cand%failed .or. .not. cand%valid) cycle
       if (cand%strict) then
         call accept(law, kin, sig, jump, cand, .false., r, t, state_new, mode)
@@ -648,7 +689,7 @@ contains
     end do
     apex_dependent = .false.
     do q = 1, 3
-      call pair_return(law, rtr, kin, sig, PAIRS(:, q), cand, dependent)
+      call pair_return(law, rtr, kin, s, sig, PAIRS(:, q), cand, dependent)
       if (q == 3) apex_dependent = dependent
       if (dependent .or. cand%failed .or. .not. cand%valid) cycle
       call accept(law, kin, sig, jump, cand, .false., r, t, state_new, mode)
@@ -699,7 +740,7 @@ contains
     integer, intent(in) :: set(2)
     real(c_double), intent(out) :: r(2), dl(3), k3, g
     logical, intent(out) :: ok
-    real(c_double) :: at, an, g0, nca, s, ds, x, rs(2)
+    real(c_double) :: at, an, g0, nca, s, ds, x, rs(2), sx
     type(law_t) :: scaled
     type(candidate_t) :: pair
     integer :: i, a
@@ -717,7 +758,7 @@ contains
       scaled%kn = law%kn / an
       scaled%cm(1, :) = scaled%kt * law%mv(1, :)
       scaled%cm(2, :) = scaled%kn * law%mv(2, :)
-      call pair_return(scaled, rs, kin(1:2), sig, set, pair, dependent)
+      call pair_return(scaled, rs, kin(1:2), strength(law, kin(1:2)), sig, set, pair, dependent)
       ok = .not. (dependent .or. pair%failed)
       if (.not. ok) return
       dl = pair%dl
@@ -726,7 +767,8 @@ contains
       g0 = law%nv(1, a) * rs(1) + law%nv(2, a) * rs(2)
       nca = law%nv(1, a) * law%cm(1, a) / at + law%nv(2, a) * law%cm(2, a) / an
       i = KVAR(a)
-      call scalar_root(g0, nca, law%s0(i), law%rate(i), kin(i), ZERO, sig, x, ok)
+      call scalar_root(g0, nca, law%s0(i), law%rate(i), kin(i), strength1(law%s0(i), law%rate(i), kin(i)), ZERO, sig, &
+           x, sx, ok)
       dl(a) = x
       r = [(rtr(1) - law%cm(1, a) * x) / at, (rtr(2) - law%cm(2, a) * x) / an]
     end if
@@ -735,17 +777,20 @@ contains
     g = sqrt(r(2)**2 + law%css * r(1)**2) - s
   end subroutine cap_point
 
-  ! Gaussian elimination with partial pivoting: a x = b for the local systems (n <= 4).
+  ! Gaussian elimination with partial pivoting: a x = b for the local systems (n <= 5),
+  ! on the leading n x n block of fixed-size arrays (arrays of a variable size, or
+  ! sections passed as such, are allocated on the heap at every call).
   pure subroutine solve_small(n, a, b, x, ok)
     integer, intent(in) :: n
-    real(c_double), intent(in) :: a(n, n), b(n, 2)
-    real(c_double), intent(out) :: x(n, 2)
+    real(c_double), intent(in) :: a(5, 5), b(5, 2)
+    real(c_double), intent(out) :: x(5, 2)
     logical, intent(out) :: ok
-    real(c_double) :: m(n, n + 2), row(n + 2), scale
-    integer :: i, j, p
-    m(:, 1:n) = a
-    m(:, n + 1:n + 2) = b
-    scale = maxval(abs(a))
+    real(c_double) :: m(5, 7), row(7), scale, f, acc
+    integer :: i, j, k, p, c, w
+    w = n + 2
+    m(1:n, 1:n) = a(1:n, 1:n)
+    m(1:n, n + 1:w) = b(1:n, :)
+    scale = maxval(abs(a(1:n, 1:n)))
     ok = scale > 0 .and. scale <= huge(scale)
     x = ZERO
     if (.not. ok) return
@@ -756,18 +801,27 @@ contains
         return
       end if
       if (p /= j) then
-        row = m(j, :)
-        m(j, :) = m(p, :)
-        m(p, :) = row
+        row(1:w) = m(j, 1:w)
+        m(j, 1:w) = m(p, 1:w)
+        m(p, 1:w) = row(1:w)
       end if
       do i = j + 1, n
-        m(i, j:) = m(i, j:) - m(i, j) / m(j, j) * m(j, j:)
+        f = m(i, j) / m(j, j)
+        do k = j, w
+          m(i, k) = m(i, k) - f * m(j, k)
+        end do
       end do
     end do
     do i = n, 1, -1
-      x(i, :) = (m(i, n + 1:n + 2) - matmul(m(i, i + 1:n), x(i + 1:n, :))) / m(i, i)
+      do c = 1, 2
+        acc = ZERO
+        do k = i + 1, n
+          acc = acc + m(i, k) * x(k, c)
+        end do
+        x(i, c) = (m(i, n + c) - acc) / m(i, i)
+      end do
     end do
-    ok = all(abs(x) <= huge(ONE))
+    ok = all(abs(x(1:n, :)) <= huge(ONE))
   end subroutine solve_small
 
   ! dr/dj of a return on the cap with the partners `set`: the residuals
@@ -804,7 +858,7 @@ contains
         if (KVAR(set(i)) == KVAR(set(j))) jac(3 + i, 3 + j) = -dk(KVAR(set(i)))
       end do
     end do
-    call solve_small(n, jac(1:n, 1:n), rhs(1:n, :), z(1:n, :), ok)
+    call solve_small(n, jac, rhs, z, ok)
     t = z(1:2, 1:2)
   end subroutine cap_tangent
 
