@@ -464,6 +464,7 @@ PetscErrorCode BwMixedDestroy(BwMixed *mixed)
   PetscCall(PetscFree2(mx->tangent, mx->scaled_tangent));
   PetscCall(PetscFree(mx->kg_interfaces));
   PetscCall(PetscFree(mx->kg));
+  PetscCall(PetscFree2(mx->s6, mx->s6_valid));
   PetscCall(PetscFree2(mx->tangent_changed, mx->kg_changed));
   PetscCall(VecScatterDestroy(&mx->kg_scatter));
   PetscCall(VecDestroy(&mx->kg_owned));

@@ -69,6 +69,12 @@ struct _n_BwMixed {
    * changed, the spring's block at the last write (its rows change with it) */
   PetscBool *tangent_changed, *kg_changed;
   PetscInt   spring_written;
+  /* refills only: (R B)^T K_G (R B) of each interface of kg_interfaces (4
+   * nd^2 values; its two blocks' rows both need it), valid until its K_G
+   * changes: computed once per change instead of once per block row
+   * (about S^'s own values in size) */
+  PetscReal *s6;
+  PetscBool *s6_valid;
   VecScatter kg_scatter;          /* owners' K_G -> ranks that assemble rows with them */
   Vec        kg_owned, kg_ghost;
 };

@@ -172,13 +172,17 @@ static PetscErrorCode BwMixedBlockRows(BwMixed mx, PetscInt b, PetscBool values,
   if (!values) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscArrayzero(w->acc, nd * nd * n));
   for (PetscInt a = mx->adj_offsets[b]; a < mx->adj_offsets[b + 1]; a++) {
-    PetscInt  k = mx->adj[a], side = BwSide(mx, k, b), loc;
-    PetscReal rb[2 * BW_MAX_ND * BW_MAX_ND], s6[4 * BW_MAX_ND * BW_MAX_ND], sc[2 * BW_MAX_ND];
-    int       status;
+    PetscInt   k = mx->adj[a], side = BwSide(mx, k, b), loc;
+    PetscReal  rb[2 * BW_MAX_ND * BW_MAX_ND], own[4 * BW_MAX_ND * BW_MAX_ND], sc[2 * BW_MAX_ND], *s6 = own;
+    int        status = BW_KERNEL_OK;
     PetscCall(PetscFindInt(k, mx->nkg, mx->kg_interfaces, &loc));
     PetscCheck(loc >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface %" PetscInt_FMT " not condensed", k);
-    PetscCall(BwMixedCompatibility(mx, k, rb));
-    bw_kernel_stiffness((int)mx->dim, rb, mx->kg + nd * nd * loc, s6, &status);
+    if (mx->s6) s6 = mx->s6 + 4 * nd * nd * loc;
+    if (!mx->s6 || !mx->s6_valid[loc]) {
+      PetscCall(BwMixedCompatibility(mx, k, rb));
+      bw_kernel_stiffness((int)mx->dim, rb, mx->kg + nd * nd * loc, s6, &status);
+      if (mx->s6) mx->s6_valid[loc] = PETSC_TRUE;
+    }
     for (PetscInt c = 0; c < 2 * nd; c++) {
       PetscInt blk = g->pair[2 * k + c / nd];
       sc[c]        = mx->model->prescribed[nd * blk + c % nd] ? 0 : mx->qscale[nd * blk + c % nd];
@@ -311,6 +315,7 @@ PetscErrorCode BwMixedAssembleS(BwMixed mx)
   BwRowWork      w;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscFree2(mx->s6, mx->s6_valid)); /* sized by the interfaces below */
   PetscCall(BwMixedStiffnessInterfaces(mx));
   PetscCall(BwMixedCondense(mx));
   PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, nd * nd * (mx->maxdeg + 1), &w.acc));
@@ -386,6 +391,9 @@ PetscErrorCode BwMixedRefillS(BwMixed mx)
   PetscCheck(!mx->values_fixed, mx->comm, PETSC_ERR_ORDER, "S^ was assembled for values that never change (BwMixedSetValuesFixed) and cannot be refilled");
   PetscCall(PetscLogEventBegin(BwEvents[BW_EVENT_ASSEMBLE_S], 0, 0, 0, 0));
   PetscCall(BwMixedCondense(mx));
+  if (!mx->s6) PetscCall(PetscCalloc2(4 * mx->nd * mx->nd * mx->nkg + 1, &mx->s6, mx->nkg + 1, &mx->s6_valid));
+  for (PetscInt e = 0; e < mx->nkg; e++)
+    if (!mx->kg_changed || mx->kg_changed[e]) mx->s6_valid[e] = PETSC_FALSE;
   PetscCall(PetscMalloc3(mx->maxdeg + 1, &w.nbr, mx->maxdeg + 1, &w.col, mx->nd * mx->nd * (mx->maxdeg + 1), &w.acc));
   PetscCall(BwMixedWriteS(mx, &w));
   mx->spring_written = mx->spring_block;
