@@ -77,7 +77,8 @@ module bw_joint_law_kernels
   ! The internal variable of each surface: k1 for the cut-off, k2 for both cone halves.
   integer, parameter :: KVAR(3) = [1, 2, 2]
   ! Pairs in the order tried: the corners with the cut-off before the apex, so that a
-  ! joint whose apex lies on the cut-off (no-tension dry joint) opens on the cut-off.
+  ! joint whose apex lies on the cut-off (no-tension dry joint) opens on the cut-off;
+  ! the corner with the cone's half the trial shear points to first (coulomb_portion).
   integer, parameter :: PAIRS(2, 3) = reshape([1, 2, 1, 3, 2, 3], [2, 3])
 
   real(c_double), parameter :: ZERO = 0.0_c_double, ONE = 1.0_c_double, HALF = 0.5_c_double
@@ -649,7 +650,7 @@ contains
     integer(c_int), intent(out) :: status
     type(candidate_t) :: cand, backup
     real(c_double) :: rtr(2), kin(2), s(2), sig, ftr(3)
-    integer :: a, q
+    integer :: a, q, p, h
     logical :: dependent, apex_dependent, have_backup
 
     rtr = [law%kt * (jump(1) - state(1)), law%kn * (jump(2) - state(2))]
@@ -688,8 +689,14 @@ contains
       have_backup = .true.
     end do
     apex_dependent = .false.
+    ! A corner's multiplier on the cone's half has the sign of the trial shear beyond
+    ! the corner's own (both are admissible only where they meet, within ATOL): the
+    ! half rt_tr points to is tried first, which spares the other's return.
+    h = merge(1, 2, rtr(1) >= 0)
     do q = 1, 3
-      call pair_return(law, rtr, kin, s, sig, PAIRS(:, q), cand, dependent)
+      p = q
+      if (q < 3 .and. h == 2) p = 3 - q
+      call pair_return(law, rtr, kin, s, sig, PAIRS(:, p), cand, dependent)
       if (q == 3) apex_dependent = dependent
       if (dependent .or. cand%failed .or. .not. cand%valid) cycle
       call accept(law, kin, sig, jump, cand, .false., r, t, state_new, mode)
