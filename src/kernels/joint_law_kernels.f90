@@ -215,43 +215,34 @@ contains
   pure subroutine cap_strength(law, k, s, ds)
     type(law_t), intent(in) :: law
     real(c_double), intent(in) :: k
-    real(c_double), intent(out) :: s, ds
+    real(c_double), intent(out) :: s
+    real(c_double), intent(out), optional :: ds ! left out where only sbar is needed
     real(c_double) :: q, w
     if (.not. law%soft) then
       s = law%sp
-      ds = ZERO
+      if (present(ds)) ds = ZERO
     else if (k <= ZERO) then
       ! before the cap has flowed (most portions): the branch below at q = w = 0,
       ! without its division and square root
       s = law%si
-      ds = huge(ONE)
+      if (present(ds)) ds = huge(ONE)
     else if (k <= law%kp) then
       q = max(k / law%kp, ZERO)
       w = sqrt(max(2 * q - q * q, ZERO))
       s = law%si + (law%sp - law%si) * w
       ! infinite at k = 0, where no converged cap state lies (k3 > 0 once it flows)
-      ds = huge(ONE)
-      if (w > 0) ds = (law%sp - law%si) * (ONE - q) / (law%kp * w)
+      if (present(ds)) ds = huge(ONE)
+      if (present(ds) .and. w > 0) ds = (law%sp - law%si) * (ONE - q) / (law%kp * w)
     else if (k <= law%km) then
       q = (k - law%kp) / (law%km - law%kp)
       s = law%sp + (law%sm - law%sp) * q * q
-      ds = 2 * (law%sm - law%sp) * q / (law%km - law%kp)
+      if (present(ds)) ds = 2 * (law%sm - law%sp) * q / (law%km - law%kp)
     else
       w = exp(max(law%mm * (k - law%km) / (law%sm - law%sr), -MAXEXP))
       s = law%sr + (law%sm - law%sr) * w
-      ds = law%mm * w
+      if (present(ds)) ds = law%mm * w
     end if
   end subroutine cap_strength
-
-  ! f3 in stress units, Q - sbar with Q = sqrt(rn^2 + Css rt^2): the same surface as
-  ! model.md's rn^2 + Css rt^2 - sbar^2, measured like the other surfaces.
-  pure function cap_surface(law, r, k3) result(f)
-    type(law_t), intent(in) :: law
-    real(c_double), intent(in) :: r(2), k3
-    real(c_double) :: f, s, ds
-    call cap_strength(law, k3, s, ds)
-    f = sqrt(r(2)**2 + law%css * r(1)**2) - s
-  end function cap_surface
 
   ! Without softening or before any (rate k = 0) the strength is s0 itself, which the
   ! exponential would return too: skipping it is the same number, and most portions of
@@ -747,7 +738,7 @@ contains
     integer, intent(in) :: set(2)
     real(c_double), intent(out) :: r(2), dl(3), k3, g
     logical, intent(out) :: ok
-    real(c_double) :: at, an, g0, nca, s, ds, x, rs(2), sx
+    real(c_double) :: at, an, g0, nca, s, x, rs(2), sx
     type(law_t) :: scaled
     type(candidate_t) :: pair
     integer :: i, a
@@ -780,7 +771,7 @@ contains
       r = [(rtr(1) - law%cm(1, a) * x) / at, (rtr(2) - law%cm(2, a) * x) / an]
     end if
     k3 = kin(3) + 2 * mu * sqrt((law%css * r(1))**2 + r(2)**2)
-    call cap_strength(law, k3, s, ds)
+    call cap_strength(law, k3, s)
     g = sqrt(r(2)**2 + law%css * r(1)**2) - s
   end subroutine cap_point
 
@@ -1005,7 +996,7 @@ contains
     integer(c_signed_char), intent(out) :: mode
     integer(c_int), intent(out) :: status
     type(candidate_t) :: cand
-    real(c_double) :: rtr(2), s(2), sbar, dsbar, sig, f3, f(3)
+    real(c_double) :: rtr(2), s(2), sbar, sig, f3, f(3)
     integer :: a, h, bits, order(2, 4)
     call coulomb_portion(law, state(1:NSTATE), jump, r, t, state_new(1:NSTATE), mode, status)
     state_new(IK3) = state(IK3)
@@ -1018,7 +1009,7 @@ contains
     ! flowed (most portions): cheaper than the Coulomb strengths' exponentials sig needs,
     ! and it lets through only what nears this portion's own cap, not every portion
     ! above the cap's least value fc/10.
-    call cap_strength(law, state(IK3), sbar, dsbar)
+    call cap_strength(law, state(IK3), sbar)
     f3 = sqrt(r(2)**2 + law%css * r(1)**2) - sbar
     if (f3 < -ATOL * max(abs(rtr(1)) * max(ONE, sqrt(law%css)), abs(rtr(2)) * max(ONE, law%tphi), &
          law%s0(1), law%s0(2), law%sp)) return
