@@ -25,12 +25,8 @@ regions of space; the result must be the serial reader's, exactly.
   walls3d CASE   the same for 3D files (the wall's blocks extruded to
                  prisms, shuffled): /interfaces blocks, center, frame, area,
                  vertices, offsets, kn, kt; CASE detected | listed
-  broken PART    every broken file of tests/data (make_broken.CASES, PART:
-                 its first, ..., fourth quarter) gives on 3 ranks the 1-rank
-                 run's line: exit 1, one line, the same text, holding the
-                 case's strings; among them files with defects read by
-                 different ranks, where the line must name the one the
-                 serial reader meets first
+  (the broken files of tests/data on 3 ranks give the 1-rank run's line:
+                 tests/geometry/check_broken.py part K, geometry.broken.part_K)
   memory [distribute]
                  a rank does not hold the whole file: test_geometry on a
                  1e5-block running-bond file (8.8 MB), each rank's peak
@@ -55,7 +51,6 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, DATA)
 from bwrun import ENV, MPIEXEC, Failure, call, expect, read, run  # noqa: E402
 import geomlib  # noqa: E402
-import make_broken  # noqa: E402
 import blockwall as bw  # noqa: E402  (bwrun put this checkout's python/ on sys.path)
 
 RANKS = (1, 2, 3, 5)
@@ -209,29 +204,6 @@ def walls3d(case):
     print(f"3D {case}: {len(prisms)} blocks, {len(got)} interfaces, the construction's, crossing every rank boundary")
 
 
-def broken(part):
-    names = list(make_broken.CASES)
-    names = names[(part - 1) * len(names) // 4:part * len(names) // 4]
-    failures = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for name in names:
-            geo = make_broken.path(DATA, name)
-            scene = os.path.join(tmp, f"{name}.yaml")
-            geomlib.write_scene(scene, geo)
-            lines = {}
-            for np_ in (1, 3):
-                code, _, err = run(scene, ["-output_file", os.path.join(tmp, "out.h5")], np_, expect_ok=False)
-                # mpiexec adds its own report of the failed job; blockwall's line must appear once
-                lines[np_] = (code, [ln for ln in err.splitlines() if ln.startswith("blockwall")])
-            (c1, l1), (c3, l3) = lines[1], lines[3]
-            ok = c1 == 1 and c3 == 1 and len(l1) == 1 and l1 == l3 and all(w in l1[0] for w in make_broken.CASES[name][2])
-            print(f"{'ok' if ok else 'FAIL'} {name}: {l3[0] if len(l3) == 1 else l3}")
-            if not ok:
-                failures.append(f"{name}: 1 rank exit {c1} {l1}, 3 ranks exit {c3} {l3}")
-    expect(not failures, f"{len(failures)} of {len(names)} broken files differ:\n" + "\n".join(failures))
-    print(f"{len(names)} broken files: the same line on 1 and 3 ranks")
-
-
 def peaks(scene, np_, tmp, extra):
     """Each rank's peak resident memory [kB], measured by /usr/bin/time around it."""
     d = tempfile.mkdtemp(dir=tmp)
@@ -275,12 +247,10 @@ if __name__ == "__main__":
             walls2d(args[0])
         elif what == "walls3d" and args and args[0] in ("detected", "listed"):
             walls3d(args[0])
-        elif what == "broken" and args in (["1"], ["2"], ["3"], ["4"]):
-            broken(int(args[0]))
         elif what == "memory" and args in ([], ["distribute"]):
             memory(["-distribute"] if args else [])
         else:
-            sys.exit(f"check_parallel_read.py: unknown case {sys.argv[1:]} (walls2d shuffled|listed|listed_kn|bands|arch, walls3d detected|listed, broken 1|2|3|4, memory [distribute])")
+            sys.exit(f"check_parallel_read.py: unknown case {sys.argv[1:]} (walls2d shuffled|listed|listed_kn|bands|arch, walls3d detected|listed, memory [distribute])")
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)

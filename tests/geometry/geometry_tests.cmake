@@ -29,22 +29,17 @@ foreach(case analytic generator)
   bw_py_test(geometry.detect.wall_1e5_${case} geometry geometry/check_detect.py ${case})
 endforeach()
 
-# One test per broken file of tests/data/broken (tests/data/make_broken.py).
-foreach(case vertex_nan vertex_inf duplicate_vertex closed_polygon two_vertices one_vertex_block bowtie spike
-             fold_back zero_area overlap contained duplicate_block interface_out_of_range interface_negative
-             interface_self interface_reversed interface_duplicate interface_not_facing interface_listed_once
-             interfaces_shape interfaces_float kn_negative kt_zero kn_nan kn_length kn_without_blocks
-             set_out_of_range set_negative set_repeated set_shape set_name sets_not_group vertices_shape
-             vertices_1d vertices_int offsets_float offsets_decreasing offsets_end offsets_start offsets_empty
-             no_vertices no_offsets unconnected_detected unconnected_explicit gap_too_wide depth_negative
-             depth_string not_hdf5 offsets_twice vertex_nan_twice polygons_twice overlap_twice pairs_before_kn
-             kn_before_kt sets_range_first sets_repeat_first not_facing_twice unconnected_many hulls_twice_3d
-             overlap_twice_3d listed_rows_3d missing_file current)
-  bw_py_test(geometry.broken.${case} "geometry;errors" geometry/check_broken.py ${case})
+# The broken files of tests/data/broken (tests/data/make_broken.py): each
+# file on 1 rank and on 3 (every rank reads a part: the error must reach,
+# and stop, every rank, and be the serial reader's line), a quarter of
+# make_broken.CASES per test, one Python process each (it was one test per
+# file, plus geometry.parallel_read.broken_1..4 running every file on 1
+# rank again and on 3; `check_broken.py CASE [RANKS]` runs one file).
+foreach(part 1 2 3 4)
+  bw_py_test(geometry.broken.part_${part} "geometry;errors;mpi" geometry/check_broken.py part ${part})
 endforeach()
-# every rank reads a part: the error must reach, and stop, every rank
-foreach(case overlap interface_duplicate set_out_of_range)
-  bw_py_test(geometry.broken.${case}_3ranks "geometry;errors;mpi" geometry/check_broken.py ${case} 3)
+foreach(case missing_file current)
+  bw_py_test(geometry.broken.${case} "geometry;errors" geometry/check_broken.py ${case})
 endforeach()
 
 foreach(case hinge u1_only pinned_foundation unconnected arch_m1 four_bar)
@@ -59,7 +54,8 @@ endforeach()
 set_tests_properties(geometry.running_bond.errors PROPERTIES LABELS "geometry;errors")
 
 # Files read in parallel (issue 29): the serial reader's geometry, bit for
-# bit, on 1, 2, 3 and 5 ranks; the serial reader's error line on 3 ranks;
+# bit, on 1, 2, 3 and 5 ranks (the serial reader's error line on 3 ranks:
+# geometry.broken.part_*, above);
 # no rank holding the whole file (peak memory per rank, 2 against 8 ranks).
 # Each took 5 to 40 s here (two cores shared with other builds): the
 # suite's default TIMEOUT, which the end of tests/CMakeLists.txt sets for
@@ -72,10 +68,6 @@ endforeach()
 foreach(case detected listed)
   bw_py_test(geometry.parallel_read.walls3d_${case} "geometry;mpi;dim3" geometry/check_parallel_read.py walls3d ${case})
   list(APPEND bw_parallel_read geometry.parallel_read.walls3d_${case})
-endforeach()
-foreach(part 1 2 3 4)
-  bw_py_test(geometry.parallel_read.broken_${part} "geometry;mpi;errors" geometry/check_parallel_read.py broken ${part})
-  list(APPEND bw_parallel_read geometry.parallel_read.broken_${part})
 endforeach()
 bw_py_test(geometry.parallel_read.memory "geometry;mpi" geometry/check_parallel_read.py memory)
 bw_py_test(geometry.parallel_read.memory_distribute "geometry;mpi" geometry/check_parallel_read.py memory distribute)
