@@ -19,7 +19,8 @@ SAME_TOL):
             --unit overrides it; $INSUNITS 0 -> metres; $INSUNITS 1 -> inches;
             $INSUNITS 3 (miles) is an error asking for --unit; vertices
             exact to 1e-15
-Defects (DEFECTS below), one drawing each: exit code 1, exactly one line on
+Defects (DEFECTS below; `defects K` runs the K-th half of them, K = 1, 2,
+`defect.NAME` one), one drawing each: exit code 1, exactly one line on
 stderr, naming the entity's handle and layer and the defect, no file
 created (the directory holds the drawing only), and a file already at the
 target left byte for byte as it was.
@@ -327,11 +328,29 @@ def defect(name):
     print(f"{name}: exit 1, {line}")
 
 
+def defects(k):
+    """The K-th half of DEFECTS (K = 1, 2), each checked as defect(name), in
+    one Python process; every defect run and reported."""
+    names = list(DEFECTS)
+    names = names[(k - 1) * len(names) // 2:k * len(names) // 2]
+    failures = []
+    for name in names:
+        try:
+            defect(name)
+        except Failure as e:
+            print(f"FAIL {e}")
+            failures.append(str(e))
+    expect(not failures, f"{len(failures)} of {len(names)} defects failed:\n" + "\n".join(failures))
+    print(f"{len(names)} defects (half {k} of 2) refused")
+
+
 if __name__ == "__main__":
     try:
         what = sys.argv[1]
         if what.startswith("defect."):
             defect(what[len("defect."):])
+        elif what == "defects" and sys.argv[2:] in (["1"], ["2"]):
+            defects(int(sys.argv[2]))
         else:
             {"wall": wall, "arch": arch, "stones": stones, "units": units}[what]()
     except Failure as e:
