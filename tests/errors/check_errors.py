@@ -86,9 +86,21 @@ def check(name):
 
 
 if __name__ == "__main__":
-    try:
-        for n in sys.argv[1:] or CASES:
+    # check_errors.py [NAME ...] | part K: the cases named (default all), or
+    # the K-th half of CASES (K = 1, 2); every case run and reported
+    names = sys.argv[1:] or list(CASES)
+    if sys.argv[1:2] == ["part"]:
+        if sys.argv[2:] not in (["1"], ["2"]):
+            sys.exit(f"check_errors.py part K: K is 1 or 2, got {sys.argv[2:]}")
+        k = int(sys.argv[2])
+        names = list(CASES)[(k - 1) * len(CASES) // 2:k * len(CASES) // 2]
+    failed = []
+    for n in names:
+        try:
             check(n)
-    except Failure as e:
-        print("FAIL", e)
+        except Failure as e:
+            print("FAIL", e)
+            failed.append(n)
+    if failed:
+        print(f"FAIL: {len(failed)} of {len(names)} cases: {', '.join(failed)}")
         sys.exit(1)
