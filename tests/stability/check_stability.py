@@ -692,9 +692,13 @@ if __name__ == "__main__":
     unknown = [n for n in argv if n not in ALL]
     if not argv or unknown:  # no case, or a mistyped one: nothing would be checked
         sys.exit(f"check_stability.py: unknown case(s) {unknown} (cases: {', '.join(ALL)})" if argv else __doc__)
-    try:
-        for n in argv:
+    failed = []
+    for n in argv:  # every case run and reported, a failed one does not hide the next
+        try:
             check(n)
-    except Failure as e:
-        print("FAIL", e)
+        except Failure as e:
+            print("FAIL", e)
+            failed.append(n)
+    if failed:
+        print(f"FAIL: {len(failed)} of {len(argv)} cases: {', '.join(failed)}")
         sys.exit(1)
