@@ -15,6 +15,8 @@ resultant), on the 3D run's ranks (1 or 3) against the 2D run on 1 rank.
              (w3 in 3D)
 
 usage: check_extrusion.py CASE [RANKS]
+       check_extrusion.py SPEC...   SPEC: CASE or CASE:RANKS[,RANKS...]
+                                    (the 2D run once per case)
 """
 import os
 import sys
@@ -77,25 +79,41 @@ def compare(r2, r3, what):
           f"stresses {worst:.1e}, rb {worst_b:.1e}")
 
 
-def main():
-    case = sys.argv[1]
-    ranks = int(sys.argv[2]) if len(sys.argv) > 2 else 1
-    if case.startswith("paper_"):
+def scenes(case):
+    """(2D scene, its options, the 3D scene, its options) of a case."""
+    if case.startswith("paper_") and case[6:].isdigit() and int(case[6:]) in TAB1:
         l, a, f1, f2, m3 = TAB1[int(case.split("_")[1])]
         geo = ["-geometry_two_blocks_length", l, "-geometry_two_blocks_height", a]
-        r2 = solve(PAPER2, [*geo, "-loads_top", f"{f1},{f2},{m3}"])
-        r3 = solve(PAPER3, [*geo, "-loads_top", f"{f1},{f2},0,0,0,{m3}"], ranks)
-    elif case == "wall":
+        return PAPER2, [*geo, "-loads_top", f"{f1},{f2},{m3}"], PAPER3, [*geo, "-loads_top", f"{f1},{f2},0,0,0,{m3}"]
+    if case == "wall":
         common = ["-gravity_density", 1800]
-        r2 = solve(WALL2, [*common, "-loads_top_beam", "3000,-1.0e4,0"])
-        r3 = solve(WALL3, [*common, "-loads_top_beam", "3000,-1.0e4,0,0,0,0"], ranks)
-    elif case == "prescribed":
-        r2 = solve(PAPER2, ["-supports_top_u1", 1e-6, "-supports_top_u2", -2e-6, "-supports_top_w", 3e-5, "-loads_top", "0,0,0"])
-        r3 = solve(PAPER3, ["-supports_top_u1", 1e-6, "-supports_top_u2", -2e-6, "-supports_top_w3", 3e-5,
-                            "-supports_top_u3", 0, "-supports_top_w1", 0, "-supports_top_w2", 0, "-loads_top", "0,0,0,0,0,0"], ranks)
-    else:
-        raise SystemExit(f"unknown case {case}")
-    compare(r2, r3, f"{case} on {ranks} rank{'s' if ranks > 1 else ''}")
+        return WALL2, [*common, "-loads_top_beam", "3000,-1.0e4,0"], WALL3, [*common, "-loads_top_beam", "3000,-1.0e4,0,0,0,0"]
+    if case == "prescribed":
+        return (PAPER2, ["-supports_top_u1", 1e-6, "-supports_top_u2", -2e-6, "-supports_top_w", 3e-5, "-loads_top", "0,0,0"],
+                PAPER3, ["-supports_top_u1", 1e-6, "-supports_top_u2", -2e-6, "-supports_top_w3", 3e-5,
+                         "-supports_top_u3", 0, "-supports_top_w1", 0, "-supports_top_w2", 0, "-loads_top", "0,0,0,0,0,0"])
+    raise SystemExit(f"unknown case {case}")
+
+
+def main():
+    """check_extrusion.py CASE [RANKS], or SPEC... with SPEC = CASE or
+    CASE:RANKS,RANKS...: each case's 2D run once (1 rank), against its 3D
+    run on each rank count (default 1); every spec run and reported."""
+    args = sys.argv[1:]
+    specs = [f"{args[0]}:{args[1]}"] if len(args) == 2 and args[1].isdigit() else args
+    failed = []
+    for spec in specs:
+        case, _, counts = spec.partition(":")
+        s2, o2, s3, o3 = scenes(case)
+        try:
+            r2 = solve(s2, o2)
+            for ranks in [int(n) for n in counts.split(",")] if counts else [1]:
+                compare(r2, solve(s3, o3, ranks), f"{case} on {ranks} rank{'s' if ranks > 1 else ''}")
+        except Failure as e:
+            print(f"FAIL: {e}")
+            failed.append(spec)
+    if failed:
+        raise Failure(f"{len(failed)} of {len(specs)}: {', '.join(failed)}")
 
 
 if __name__ == "__main__":

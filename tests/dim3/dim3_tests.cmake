@@ -1,15 +1,11 @@
 # Three dimensions (issue "Walls in three dimensions"): invariants of the 3D
 # code against the 2D one and closed forms.
 # Extrusion invariant: 2D on 1 rank against its extrusion on 1 and 3 ranks.
-foreach(case 1 2 3 4 5 6 7 8 9)
-  bw_py_test(dim3.extrusion.paper_${case} "dim3;paper" dim3/check_extrusion.py paper_${case})
-endforeach()
-foreach(case wall prescribed)
-  bw_py_test(dim3.extrusion.${case} dim3 dim3/check_extrusion.py ${case})
-endforeach()
-foreach(case paper_2 wall)
-  bw_py_test(dim3.extrusion.${case}_3ranks "dim3;mpi" dim3/check_extrusion.py ${case} 3)
-endforeach()
+# One Python process per test, each case's 2D run once for its 3D runs (it
+# was a test per case and rank count, the 2D run repeated for 3 ranks).
+bw_py_test(dim3.extrusion.paper "dim3;paper;mpi" dim3/check_extrusion.py
+           paper_1 paper_2:1,3 paper_3 paper_4 paper_5 paper_6 paper_7 paper_8 paper_9)
+bw_py_test(dim3.extrusion.wall "dim3;mpi" dim3/check_extrusion.py wall:1,3 prescribed)
 # Two blocks under all six load components against model.md's closed form.
 foreach(grid "16;4" "5;3" "2;2")
   list(JOIN grid "x" tag)
