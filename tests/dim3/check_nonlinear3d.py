@@ -370,9 +370,7 @@ def errors():
             print(f"{key}: {lines[0]}")
 
 
-def main():
-    case = sys.argv[1]
-    arg = sys.argv[2] if len(sys.argv) > 2 else None
+def one(case, arg=None):
     if case == "extrusion":
         extrusion(arg)
     elif case == "ranks":
@@ -380,6 +378,25 @@ def main():
     else:
         {"sliding8": sliding8, "tilt_slide": tilt_slide, "tilt_rock": tilt_rock, "torsion": torsion,
          "wall_tilt": wall_tilt, "errors": errors}[case]()
+
+
+def main():
+    """CASE [ARG] (extrusion NAME, ranks NP, or a case alone), or several
+    specs CASE or CASE:ARG in one process, every one run and reported."""
+    args = sys.argv[1:]
+    if args[0] in ("extrusion", "ranks") and len(args) == 2:
+        one(*args)
+        return
+    failed = []
+    for spec in args:
+        case, _, arg = spec.partition(":")
+        try:
+            one(case, arg or None)
+        except Failure as e:
+            print(f"FAIL: {spec}: {e}")
+            failed.append(spec)
+    if failed:
+        raise Failure(f"{len(failed)} of {len(args)}: {', '.join(failed)}")
 
 
 if __name__ == "__main__":

@@ -34,12 +34,14 @@ bw_py_test(dim3.plot "dim3;post" dim3/check_plot3d.py)
 set_tests_properties(dim3.plot PROPERTIES RESOURCE_LOCK xvfb)
 # Nonlinear joints and pushover in 3D (issue "Out-of-plane collapse"):
 # closed forms, the extrusion of the 2D pushovers, ranks, bad keys.
-foreach(case sliding8 tilt_slide tilt_rock torsion wall_tilt errors)
-  bw_py_test(dim3.nonlinear.${case} "dim3;nonlinear" dim3/check_nonlinear3d.py ${case})
-endforeach()
-foreach(case sliding dilatancy overturning softening wall j4d snapback)
-  bw_py_test(dim3.nonlinear.extrusion_${case} "dim3;nonlinear" dim3/check_nonlinear3d.py extrusion ${case})
-endforeach()
+# The short cases in two Python processes (each was a test of its own, a
+# Python process of 0.3 s of CPU for a second of work); j4d's extrusion,
+# 8 s, and the rank counts stay tests of their own.
+bw_py_test(dim3.nonlinear.closed_forms "dim3;nonlinear" dim3/check_nonlinear3d.py
+           sliding8 tilt_slide tilt_rock torsion wall_tilt errors)
+bw_py_test(dim3.nonlinear.extrusion "dim3;nonlinear" dim3/check_nonlinear3d.py
+           extrusion:sliding extrusion:dilatancy extrusion:overturning extrusion:softening extrusion:wall extrusion:snapback)
+bw_py_test(dim3.nonlinear.extrusion_j4d "dim3;nonlinear" dim3/check_nonlinear3d.py extrusion j4d)
 foreach(np 2 3)
   bw_py_test(dim3.nonlinear.ranks_${np} "dim3;nonlinear;mpi" dim3/check_nonlinear3d.py ranks ${np})
 endforeach()
