@@ -202,10 +202,20 @@ CASES = {"linear": lambda n: linear(n, 2), "linear3d": lambda n: linear(n, 3), "
          "support_pattern": support_pattern, "empty_rank": empty_rank}
 
 if __name__ == "__main__":
-    try:
-        if len(sys.argv) != 3 or sys.argv[1] not in CASES:
-            raise Failure(f"usage: check_trivial.py {{{'|'.join(CASES)}}} RANKS (got {sys.argv[1:]})")
-        CASES[sys.argv[1]](int(sys.argv[2]))
-    except Failure as e:
-        print("FAIL", e)
+    # CASE RANKS, or specs CASE:RANKS... in one process, every one run and reported
+    args = sys.argv[1:]
+    specs = [f"{args[0]}:{args[1]}"] if len(args) == 2 and ":" not in args[0] else args
+    parsed = [spec.partition(":") for spec in specs]
+    if not specs or any(c not in CASES or not n.isdigit() for c, _, n in parsed):
+        print(f"FAIL usage: check_trivial.py {{{'|'.join(CASES)}}} RANKS, or CASE:RANKS... (got {args})")
+        sys.exit(1)
+    failed = []
+    for (case, _, ranks), spec in zip(parsed, specs):
+        try:
+            CASES[case](int(ranks))
+        except Failure as e:
+            print("FAIL", spec, e)
+            failed.append(spec)
+    if failed:
+        print(f"FAIL: {len(failed)} of {len(specs)}: {', '.join(failed)}")
         sys.exit(1)
