@@ -26,7 +26,8 @@ regions of space; the result must be the serial reader's, exactly.
                  prisms, shuffled): /interfaces blocks, center, frame, area,
                  vertices, offsets, kn, kt; CASE detected | listed
   (the broken files of tests/data on 3 ranks give the 1-rank run's line:
-                 tests/geometry/check_broken.py part K, geometry.broken.part_K)
+                 tests/geometry/check_broken.py part K, the tests
+                 geometry.parallel_read.broken_K)
   memory [distribute]
                  a rank does not hold the whole file: test_geometry on a
                  1e5-block running-bond file (8.8 MB), each rank's peak

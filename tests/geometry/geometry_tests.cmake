@@ -29,15 +29,9 @@ foreach(case analytic generator)
   bw_py_test(geometry.detect.wall_1e5_${case} geometry geometry/check_detect.py ${case})
 endforeach()
 
-# The broken files of tests/data/broken (tests/data/make_broken.py): each
-# file on 1 rank and on 3 (every rank reads a part: the error must reach,
-# and stop, every rank, and be the serial reader's line), a quarter of
-# make_broken.CASES per test, one Python process each (it was one test per
-# file, plus geometry.parallel_read.broken_1..4 running every file on 1
-# rank again and on 3; `check_broken.py CASE [RANKS]` runs one file).
-foreach(part 1 2 3 4)
-  bw_py_test(geometry.broken.part_${part} "geometry;errors;mpi" geometry/check_broken.py part ${part})
-endforeach()
+# The broken files of tests/data/broken (tests/data/make_broken.py):
+# geometry.parallel_read.broken_1..4, below, run each file on 1 rank and on
+# 3 with check_broken.py's checks. Here: no file, and the corpus current.
 foreach(case missing_file current)
   bw_py_test(geometry.broken.${case} "geometry;errors" geometry/check_broken.py ${case})
 endforeach()
@@ -54,8 +48,7 @@ endforeach()
 set_tests_properties(geometry.running_bond.errors PROPERTIES LABELS "geometry;errors")
 
 # Files read in parallel (issue 29): the serial reader's geometry, bit for
-# bit, on 1, 2, 3 and 5 ranks (the serial reader's error line on 3 ranks:
-# geometry.broken.part_*, above);
+# bit, on 1, 2, 3 and 5 ranks; the serial reader's error line on 3 ranks;
 # no rank holding the whole file (peak memory per rank, 2 against 8 ranks).
 # Each took 5 to 40 s here (two cores shared with other builds): the
 # suite's default TIMEOUT, which the end of tests/CMakeLists.txt sets for
@@ -68,6 +61,17 @@ endforeach()
 foreach(case detected listed)
   bw_py_test(geometry.parallel_read.walls3d_${case} "geometry;mpi;dim3" geometry/check_parallel_read.py walls3d ${case})
   list(APPEND bw_parallel_read geometry.parallel_read.walls3d_${case})
+endforeach()
+# Every broken file of tests/data, a quarter of make_broken.CASES per test,
+# on 1 rank and on 3 (every rank reads a part: the error must reach, and
+# stop, every rank), with check_broken.py's checks on both, and the 3
+# ranks' line the 1-rank run's. One Python process per quarter: this was
+# a test per file on 1 rank (geometry.broken.<case>), three of them again
+# on 3 (<case>_3ranks), and these tests running every file on 1 rank again
+# to compare. `check_broken.py CASE [RANKS]` runs one file.
+foreach(part 1 2 3 4)
+  bw_py_test(geometry.parallel_read.broken_${part} "geometry;mpi;errors" geometry/check_broken.py part ${part})
+  list(APPEND bw_parallel_read geometry.parallel_read.broken_${part})
 endforeach()
 bw_py_test(geometry.parallel_read.memory "geometry;mpi" geometry/check_parallel_read.py memory)
 bw_py_test(geometry.parallel_read.memory_distribute "geometry;mpi" geometry/check_parallel_read.py memory distribute)
