@@ -410,13 +410,28 @@ def j4d():
     print(f"J4D: first peak {lam[k] / 1e3:.2f} kN at {mon[k] * 1e3:.2f} mm, {len(lam) - 1} steps, stop: {res['solver']['stop_reason'][:40]}; settlement {u2:.9e} m")
 
 
+CHECKS = ("eccentric", "sliding", "dilatancy", "overturning", "stack_overturn", "stack_slide", "collapse", "softening",
+          "step_size", "elastic_limit", "j4d", "errors")
+
 if __name__ == "__main__":
-    try:
-        case = sys.argv[1]
-        if case == "ranks":
+    # ranks NP, or one or more of CHECKS in one process, every one run and reported
+    if sys.argv[1:2] == ["ranks"]:
+        try:
             ranks(int(sys.argv[2]))
-        else:
+        except Failure as e:
+            print("FAIL", e)
+            sys.exit(1)
+        sys.exit(0)
+    unknown = [c for c in sys.argv[1:] if c not in CHECKS]
+    if not sys.argv[1:] or unknown:
+        sys.exit(f"check_nonlinear.py: unknown case(s) {unknown} (ranks NP, or any of {', '.join(CHECKS)})")
+    failed = []
+    for case in sys.argv[1:]:
+        try:
             globals()[case]()
-    except Failure as e:
-        print("FAIL", e)
+        except Failure as e:
+            print("FAIL", case, e)
+            failed.append(case)
+    if failed:
+        print(f"FAIL: {len(failed)} of {len(sys.argv) - 1}: {', '.join(failed)}")
         sys.exit(1)
