@@ -312,13 +312,26 @@ def check_sets600():
         print(f"600 loaded sets: ran, foundation reaction {r[0]:.6g}, {r[1]:.6g} N balances the loads")
 
 
+def one(what, kind=None):
+    if what == "file":
+        check_file(kind)
+    else:
+        {"cmdline": check_cmdline, "early": check_early, "sets600": check_sets600}[what]()
+
+
 if __name__ == "__main__":
-    try:
-        what = sys.argv[1]
-        if what == "file":
-            check_file(sys.argv[2])
-        else:
-            {"cmdline": check_cmdline, "early": check_early, "sets600": check_sets600}[what]()
-    except Failure as e:
-        print("FAIL", e)
+    # file KIND | cmdline | early | sets600, or several specs (file:KIND,
+    # cmdline, ...) in one process, every one run and reported
+    args = sys.argv[1:]
+    specs = [f"file:{args[1]}"] if args[:1] == ["file"] and len(args) == 2 else args
+    failed = []
+    for spec in specs:
+        what, _, kind = spec.partition(":")
+        try:
+            one(what, kind or None)
+        except Failure as e:
+            print("FAIL", spec, e)
+            failed.append(spec)
+    if failed:
+        print(f"FAIL: {len(failed)} of {len(specs)}: {', '.join(failed)}")
         sys.exit(1)
