@@ -148,8 +148,9 @@ static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, K
   PetscCall(KSPGetTolerances(ksp, NULL, &atol, NULL, &maxit));
   /* The residual that rounding the displacements to double leaves: on a
    * tall wall eps |S~| |q| exceeds rtol |b| (operator.c; the bench's 3D
-   * wall of 1e6 blocks stopped at 3.5e-9 against 1e-10), and no
-   * double-precision q does better. Measured from the third step where the
+   * wall of 1e6 blocks stopped at 3.5e-9 against 1e-10), and a
+   * double-precision q cannot be expected to do better (the refinement
+   * stops at 0.13-0.18 of this worst case of the rounding). Measured from the third step where the
    * residual misses rtol, so that a refinement stopped at its floor (below)
    * can say why. Not converged there: the stresses recovered from such a q
    * carry its rounding times the joints' stiffness (5e-6 on the stability

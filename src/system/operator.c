@@ -639,8 +639,9 @@ static PetscErrorCode BwSchurShellMult(Mat S, Vec x, Vec y)
  * eps times this: on a tall wall the displacements are sums of many
  * joints' jumps, and the stiff joints see each ulp of them (bench's 3D
  * wall: 0.13-0.18 of eps times it measured at 30, 100 and 200 courses, in
- * double and in double-double alike), so below it no double-precision q
- * has a smaller residual. For the elastic operator held by its structure,
+ * double and in double-double alike): the worst case of the rounding, so
+ * a double-precision q cannot be expected to have a residual far below
+ * it. For the elastic operator held by its structure,
  * without a spring (BwMixedRoundoffSupported). */
 PetscErrorCode BwMixedSchurTermsNorm(BwMixed mx, Vec q, Vec w, PetscReal *norm)
 {
