@@ -900,6 +900,53 @@ contains
     end if
   end subroutine cap_dip
 
+  ! Where cap_return's scan of the cap alone (points hi0 4^j, j = 0, 1, ...) may start:
+  ! the index (1-based, as its loop counts) of the first point it must evaluate, the one
+  ! after the last point j where g > 0 is certain, or 1. For mu' <= mu every component
+  ! of r(mu') = (rt_tr / (1 + 2 mu' kt Css), rn_tr / (1 + 2 mu' kn)) is at least as
+  ! large as at mu, so Q(mu') >= Q(mu), and k3(mu') = k3_n + 2 mu' P(r(mu')) lies in
+  ! [k3_n, k3_n + 2 mu P(r_tr)], where sbar is at most sbar(min(k, kp)) if k3_n <= kp
+  ! (it rises to sp at kp and falls after), else sbar(k3_n): so g(mu') >= Q(mu) - that,
+  ! and where this bound exceeds 1e-10 of the stress scale (round-off of g is ~1e-15
+  ! of it) the scan would have found g > 0 at every point up to mu. Two candidates are
+  ! tried, 4 and 64 times below mu_e = g0 / (2 max(kt Css, kn) sbar(k3_n)), where g
+  ! would vanish if sbar did not change; each test costs about one evaluation of g.
+  pure function cap_scan_skip(law, rtr, k3n, g0, hi0) result(first)
+    type(law_t), intent(in) :: law
+    real(c_double), intent(in) :: rtr(2), k3n, g0, hi0
+    integer :: first
+    real(c_double) :: q0, s0, p0, mue, mu, at, an, q, kmax, smax, tol
+    integer :: je, j, try
+    first = 1
+    q0 = sqrt(rtr(2)**2 + law%css * rtr(1)**2)
+    s0 = q0 - g0 ! sbar(k3_n), as cap_point found it at mu = 0
+    if (.not. (g0 > 0 .and. s0 > 0)) return
+    mue = g0 / (2 * max(law%kt * law%css, law%kn) * s0)
+    if (.not. (mue > 64 * hi0 .and. mue <= huge(mue))) return
+    je = floor(log(mue / hi0) / log(4.0_c_double))
+    p0 = sqrt((law%css * rtr(1))**2 + rtr(2)**2)
+    tol = 1.0e-10_c_double * max(q0, law%sp)
+    do try = 1, 2
+      j = je - (2 * try - 1) ! je - 1, then je - 3
+      if (j < 2) return
+      mu = scale(hi0, 2 * j)
+      at = ONE + 2 * mu * law%kt * law%css
+      an = ONE + 2 * mu * law%kn
+      q = sqrt((rtr(2) / an)**2 + law%css * (rtr(1) / at)**2)
+      kmax = k3n + 2 * mu * p0
+      smax = s0
+      if (.not. law%soft) then
+        smax = law%sp
+      else if (k3n <= law%kp) then
+        call cap_strength(law, min(kmax, law%kp), smax)
+      end if
+      if (q - smax > tol) then
+        first = j + 2
+        return
+      end if
+    end do
+  end function cap_scan_skip
+
   ! A return on the cap with the partners `set` (cap_point).
   pure function cap_return(law, rtr, kin, sig, set) result(cand)
     type(law_t), intent(in) :: law
@@ -907,7 +954,7 @@ contains
     integer, intent(in) :: set(2)
     type(candidate_t) :: cand
     real(c_double) :: lo, hi, m, glo, ghi, g, r(2), dl(3), k3, smin, f(3), prev, gprev
-    integer :: it, side
+    integer :: it, side, first
     logical :: ok
     cand%failed = .true.
     call cap_point(law, rtr, kin, set, ZERO, sig, r, dl, k3, glo, ok)
@@ -927,7 +974,19 @@ contains
     prev = ZERO
     gprev = glo
     hi = 1.0e-9_c_double * max(sqrt(rtr(2)**2 + law%css * rtr(1)**2) / smin, ONE) / (2 * min(law%kt * law%css, law%kn))
-    do it = 1, 200
+    ! The cap alone: the scan's points where g is positive for sure are passed over
+    ! (cap_scan_skip); from the last of them on the scan is the same, so is its bracket.
+    first = 1
+    if (set(1) == 0) then
+      first = cap_scan_skip(law, rtr, kin(3), glo, hi)
+      if (first > 1) then
+        lo = scale(hi, 2 * (first - 2)) ! the point before the first one evaluated
+        call cap_point(law, rtr, kin, set, lo, sig, r, dl, k3, glo, ok)
+        hi = 4 * lo
+      end if
+    end if
+    ghi = glo ! positive: past the scan's 200 points without a sign change, no return
+    do it = first, 200
       call cap_point(law, rtr, kin, set, hi, sig, r, dl, k3, ghi, ok)
       if (.not. ok) return
       if (ghi < 0) exit
