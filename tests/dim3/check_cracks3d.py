@@ -174,7 +174,9 @@ def check_legend(c, ref, where):
     leg = c.ax.get_legend()
     expect(leg is not None, f"{where}: no legend")
     colours = {}
-    for handle, text in zip(leg.legend_handles, leg.get_texts()):
+    # legend_handles since matplotlib 3.7; Debian 12 has 3.6 (legendHandles)
+    handles = getattr(leg, "legend_handles", None) or leg.legendHandles
+    for handle, text in zip(handles, leg.get_texts()):
         m = re.fullmatch(r"(.+): (\d+)", text.get_text())
         expect(m and m.group(1) in NAMES, f"{where}: legend entry {text.get_text()!r}")
         s = NAMES[m.group(1)]

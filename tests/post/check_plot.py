@@ -66,6 +66,13 @@ STATE_NAMES = {0: "elastic", 1: "open", 2: "sliding", 3: "open and sliding"}
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
+
+def suptitle(fig):
+    """The figure's title (Figure.get_suptitle is matplotlib 3.8's; Debian 12 has 3.6)."""
+    if hasattr(fig, "get_suptitle"):
+        return fig.get_suptitle()
+    return fig._suptitle.get_text() if fig._suptitle is not None else ""
+
 def png_ok(path):
     expect(os.path.isfile(path) and os.path.getsize(path) > 0, f"{path} missing or empty")
     with open(path, "rb") as f:
@@ -208,7 +215,7 @@ def check_cracks(res, f, at, state, step):
     # red open, blue sliding, purple both: the dominant channels of each colour
     (r1, g1, b1), (r2, g2, b2), (r3, g3, b3) = (cp.lines[s].get_colors()[0][:3] for s in (1, 2, 3))
     expect(r1 > max(g1, b1) and b2 > max(r2, g2) and min(r3, b3) > g3, "the states' colours are not red, blue, purple")
-    expect(f"step {step}" in cp.figure.get_suptitle(), f"{at}: the title does not name step {step}: {cp.figure.get_suptitle()!r}")
+    expect(f"step {step}" in suptitle(cp.figure), f"{at}: the title does not name step {step}: {suptitle(cp.figure)!r}")
     # every text of the figure inside it once drawn (the title once ran off
     # its left edge, issue 17)
     fig = cp.figure
@@ -246,7 +253,7 @@ def pushover(tmp):
         written = sorted(int(k) for k in f["steps"])
         expect(written == list(range(last + 1)), f"output.steps all wrote steps {written} of 0..{last}")
         cp = check_cracks(res, f, "peak", f[f"steps/{peak:06d}/interfaces/state"][()], peak)
-        expect(cp.requested == peak and not cp.nearest and "nearest" not in cp.figure.get_suptitle(),
+        expect(cp.requested == peak and not cp.nearest and "nearest" not in suptitle(cp.figure),
                f"the peak's own step {peak} was written, yet {cp.step} drawn as the nearest")
         end_state = f["interfaces/state"][()]
         expect(np.array_equal(end_state, f[f"steps/{last:06d}/interfaces/state"][()]),
@@ -271,8 +278,8 @@ def pushover(tmp):
         expect(peak not in written, f"every_{every} wrote the peak step {peak}: {written}")
         near = min(written, key=lambda s: (abs(s - peak), -s))
         cp = check_cracks(res, f, "peak", f[f"steps/{near:06d}/interfaces/state"][()], near)
-        expect(cp.nearest and cp.requested == peak and f"nearest to step {peak}" in cp.figure.get_suptitle(),
-               f"the title does not say step {near} is the nearest to the peak {peak}: {cp.figure.get_suptitle()!r}")
+        expect(cp.nearest and cp.requested == peak and f"nearest to step {peak}" in suptitle(cp.figure),
+               f"the title does not say step {near} is the nearest to the peak {peak}: {suptitle(cp.figure)!r}")
         end = check_cracks(res, f, "end", f["interfaces/state"][()], last)
         line = (f"crack pattern at the peak (step {near}, the written step nearest to the peak, step {peak}): "
                 f"{os.path.join(png2, 'every_cracks_peak.png')}")
