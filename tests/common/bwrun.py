@@ -4,7 +4,7 @@ Python package of this checkout (python/blockwall: launch.py, results.py).
 The executable and mpiexec come from the environment set by ctest
 (BW_EXE, BW_MPIEXEC); every run writes into its own temporary directory.
 The names below are the tests' API: run, solve, call, start, budget, read,
-rel_err, expect, Failure, TimedOut, EXE, ENV, MPIEXEC.
+rel_err, expect, each, Failure, TimedOut, EXE, ENV, MPIEXEC.
 
 Every process a test starts goes through run, solve, call or start, and is
 watched (blockwall.launch.Watched): if it has not ended when the test's
@@ -108,3 +108,21 @@ def rel_err(got, want):
 def expect(cond, message):
     if not cond:
         raise Failure(message)
+
+
+def each(items, check, label=str):
+    """check(item) for every item of a test that runs several cases in one
+    process: a failure is printed and the next item still runs (a failed
+    case does not hide the next); then, if any failed, one line naming them
+    and exit 1. Returns {item: check's result} of the items that passed."""
+    results, failed = {}, []
+    for item in items:
+        try:
+            results[item] = check(item)
+        except Failure as e:
+            print(f"FAIL {label(item)}: {e}")
+            failed.append(label(item))
+    if failed:
+        print(f"FAIL: {len(failed)} of {len(items)}: {', '.join(failed)}")
+        sys.exit(1)
+    return results

@@ -24,7 +24,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
-from bwrun import Failure, expect, solve  # noqa: E402
+from bwrun import Failure, each, expect, solve  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PAPER2, PAPER3 = os.path.join(HERE, "..", "paper", "two_blocks.yaml"), os.path.join(HERE, "two_blocks.yaml")
@@ -101,19 +101,14 @@ def main():
     run on each rank count (default 1); every spec run and reported."""
     args = sys.argv[1:]
     specs = [f"{args[0]}:{args[1]}"] if len(args) == 2 and args[1].isdigit() else args
-    failed = []
-    for spec in specs:
+
+    def one(spec):
         case, _, counts = spec.partition(":")
         s2, o2, s3, o3 = scenes(case)
-        try:
-            r2 = solve(s2, o2)
-            for ranks in [int(n) for n in counts.split(",")] if counts else [1]:
-                compare(r2, solve(s3, o3, ranks), f"{case} on {ranks} rank{'s' if ranks > 1 else ''}")
-        except Failure as e:
-            print(f"FAIL: {e}")
-            failed.append(spec)
-    if failed:
-        raise Failure(f"{len(failed)} of {len(specs)}: {', '.join(failed)}")
+        r2 = solve(s2, o2)
+        for ranks in [int(n) for n in counts.split(",")] if counts else [1]:
+            compare(r2, solve(s3, o3, ranks), f"{case} on {ranks} rank{'s' if ranks > 1 else ''}")
+    each(specs, one)
 
 
 if __name__ == "__main__":

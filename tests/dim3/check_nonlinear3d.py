@@ -62,7 +62,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "nonlinear"))
-from bwrun import Failure, expect, read, rel_err, run  # noqa: E402
+from bwrun import Failure, each, expect, read, rel_err, run  # noqa: E402
 
 BLOCK = """geometry: {{generator: two_blocks, dimension: 3, depth: {s}, two_blocks: {{length: {l}, height: {a}}}}}
 joints: {{law: dry, kn: {kn}, kt: {kt}, thickness: 0.01, strength: {{{strength}}}}}
@@ -387,16 +387,7 @@ def main():
     if args[0] in ("extrusion", "ranks") and len(args) == 2:
         one(*args)
         return
-    failed = []
-    for spec in args:
-        case, _, arg = spec.partition(":")
-        try:
-            one(case, arg or None)
-        except Failure as e:
-            print(f"FAIL: {spec}: {e}")
-            failed.append(spec)
-    if failed:
-        raise Failure(f"{len(failed)} of {len(args)}: {', '.join(failed)}")
+    each(args, lambda spec: one(spec.partition(":")[0], spec.partition(":")[2] or None))
 
 
 if __name__ == "__main__":

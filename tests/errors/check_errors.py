@@ -9,7 +9,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
-from bwrun import Failure, expect, run  # noqa: E402
+from bwrun import each, expect, run  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 C = os.path.join(HERE, "cases")
@@ -94,13 +94,4 @@ if __name__ == "__main__":
             sys.exit(f"check_errors.py part K: K is 1 or 2, got {sys.argv[2:]}")
         k = int(sys.argv[2])
         names = list(CASES)[(k - 1) * len(CASES) // 2:k * len(CASES) // 2]
-    failed = []
-    for n in names:
-        try:
-            check(n)
-        except Failure as e:
-            print("FAIL", e)
-            failed.append(n)
-    if failed:
-        print(f"FAIL: {len(failed)} of {len(names)} cases: {', '.join(failed)}")
-        sys.exit(1)
+    each(names, check)

@@ -22,7 +22,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "geometry"))
-from bwrun import ENV, EXE, Failure, call, expect, read  # noqa: E402
+from bwrun import ENV, EXE, call, each, expect, read  # noqa: E402
 
 # A running-bond scene (every generator key has a place) as (path, value) leaves.
 BASE_WALL = [
@@ -324,14 +324,4 @@ if __name__ == "__main__":
     # cmdline, ...) in one process, every one run and reported
     args = sys.argv[1:]
     specs = [f"file:{args[1]}"] if args[:1] == ["file"] and len(args) == 2 else args
-    failed = []
-    for spec in specs:
-        what, _, kind = spec.partition(":")
-        try:
-            one(what, kind or None)
-        except Failure as e:
-            print("FAIL", spec, e)
-            failed.append(spec)
-    if failed:
-        print(f"FAIL: {len(failed)} of {len(specs)}: {', '.join(failed)}")
-        sys.exit(1)
+    each(specs, lambda spec: one(spec.partition(":")[0], spec.partition(":")[2] or None))

@@ -14,7 +14,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
-from bwrun import Failure, expect, rel_err, solve  # noqa: E402
+from bwrun import Failure, each, expect, rel_err, solve  # noqa: E402
 
 RESULTS = ("blocks/displacement", "blocks/reaction", "interfaces/stress", "interfaces/resultant",
            "interfaces/relative_displacement", "blocks/centroid", "blocks/load", "blocks/prescribed",
@@ -39,18 +39,9 @@ def compare(one, many, nranks, tol):
 
 if __name__ == "__main__":
     scene, counts, tol, args = sys.argv[1], [int(n) for n in sys.argv[2].split(",")], float(sys.argv[3]), sys.argv[4:]
-    failed = []
     try:
         one = solve(scene, args, 1)
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
-    for nranks in counts:  # every rank count run and reported
-        try:
-            compare(one, solve(scene, args, nranks), nranks, tol)
-        except Failure as e:
-            print(f"FAIL ({nranks} ranks)", e)
-            failed.append(nranks)
-    if failed:
-        print(f"FAIL: rank counts {failed}")
-        sys.exit(1)
+    each(counts, lambda nranks: compare(one, solve(scene, args, nranks), nranks, tol), lambda n: f"{n} ranks")

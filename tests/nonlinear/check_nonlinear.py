@@ -65,7 +65,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
-from bwrun import ENV, EXE, Failure, call, expect, read, rel_err, run  # noqa: E402
+from bwrun import ENV, EXE, Failure, call, each, expect, read, rel_err, run  # noqa: E402
 
 sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))
 import blockwall as bw  # noqa: E402
@@ -425,13 +425,4 @@ if __name__ == "__main__":
     unknown = [c for c in sys.argv[1:] if c not in CHECKS]
     if not sys.argv[1:] or unknown:
         sys.exit(f"check_nonlinear.py: unknown case(s) {unknown} (ranks NP, or any of {', '.join(CHECKS)})")
-    failed = []
-    for case in sys.argv[1:]:
-        try:
-            globals()[case]()
-        except Failure as e:
-            print("FAIL", case, e)
-            failed.append(case)
-    if failed:
-        print(f"FAIL: {len(failed)} of {len(sys.argv) - 1}: {', '.join(failed)}")
-        sys.exit(1)
+    each(sys.argv[1:], lambda case: globals()[case]())

@@ -38,7 +38,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
-from bwrun import Failure, expect, read, rel_err, run  # noqa: E402
+from bwrun import each, expect, read, rel_err, run  # noqa: E402
 
 L, A, S, E_JOINT, KN, KT = 0.2, 0.1, 0.1, 0.01, 1.0e11, 4.0e10
 U1, U2, W = 1.0e-5, -2.0e-6, 1.0e-4
@@ -209,13 +209,4 @@ if __name__ == "__main__":
     if not specs or any(c not in CASES or not n.isdigit() for c, _, n in parsed):
         print(f"FAIL usage: check_trivial.py {{{'|'.join(CASES)}}} RANKS, or CASE:RANKS... (got {args})")
         sys.exit(1)
-    failed = []
-    for (case, _, ranks), spec in zip(parsed, specs):
-        try:
-            CASES[case](int(ranks))
-        except Failure as e:
-            print("FAIL", spec, e)
-            failed.append(spec)
-    if failed:
-        print(f"FAIL: {len(failed)} of {len(specs)}: {', '.join(failed)}")
-        sys.exit(1)
+    each(specs, lambda spec: CASES[spec.partition(":")[0]](int(spec.partition(":")[2])))

@@ -106,7 +106,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "geometry"))
-from bwrun import ENV, EXE, Failure, call, expect  # noqa: E402
+from bwrun import ENV, EXE, Failure, call, each, expect  # noqa: E402
 from geomlib import write_geometry  # noqa: E402  (HDF5 geometry files, docs/hdf5.md "HDF5 geometry input")
 
 REFERENCE = os.environ.get("BW_REFERENCE", os.path.join(os.path.dirname(os.path.abspath(EXE)), "bw_reference"))
@@ -692,13 +692,4 @@ if __name__ == "__main__":
     unknown = [n for n in argv if n not in ALL]
     if not argv or unknown:  # no case, or a mistyped one: nothing would be checked
         sys.exit(f"check_stability.py: unknown case(s) {unknown} (cases: {', '.join(ALL)})" if argv else __doc__)
-    failed = []
-    for n in argv:  # every case run and reported, a failed one does not hide the next
-        try:
-            check(n)
-        except Failure as e:
-            print("FAIL", e)
-            failed.append(n)
-    if failed:
-        print(f"FAIL: {len(failed)} of {len(argv)} cases: {', '.join(failed)}")
-        sys.exit(1)
+    each(argv, check)
