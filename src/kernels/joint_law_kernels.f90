@@ -641,7 +641,7 @@ contains
     integer(c_int), intent(out) :: status
     type(candidate_t) :: cand, backup
     real(c_double) :: rtr(2), kin(2), s(2), sig, ftr(3)
-    integer :: a, q, p, h
+    integer :: a, q, order(3)
     logical :: dependent, apex_dependent, have_backup
 
     rtr = [law%kt * (jump(1) - state(1)), law%kn * (jump(2) - state(2))]
@@ -655,7 +655,7 @@ contains
       s = ZERO
     else
       s = strength(law, kin)
-      ftr = surfaces_at(law, rtr, s)
+      ftr = ftr - s(KVAR) ! surfaces_at(law, rtr, s), the same numbers
     end if
     sig = max(abs(rtr(1)), abs(rtr(2)) * max(ONE, law%tphi), s(1), s(2))
     if (all(ftr <= RTOL * sig)) then
@@ -683,11 +683,9 @@ contains
     ! A corner's multiplier on the cone's half has the sign of the trial shear beyond
     ! the corner's own (both are admissible only where they meet, within ATOL): the
     ! half rt_tr points to is tried first, which spares the other's return.
-    h = merge(1, 2, rtr(1) >= 0)
+    order = merge([1, 2, 3], [2, 1, 3], rtr(1) >= 0)
     do q = 1, 3
-      p = q
-      if (q < 3 .and. h == 2) p = 3 - q
-      call pair_return(law, rtr, kin, s, sig, PAIRS(:, p), cand, dependent)
+      call pair_return(law, rtr, kin, s, sig, PAIRS(:, order(q)), cand, dependent)
       if (q == 3) apex_dependent = dependent
       if (dependent .or. cand%failed .or. .not. cand%valid) cycle
       call accept(law, kin, sig, jump, cand, .false., r, t, state_new, mode)
@@ -909,8 +907,9 @@ contains
   ! (it rises to sp at kp and falls after), else sbar(k3_n): so g(mu') >= Q(mu) - that,
   ! and where this bound exceeds 1e-10 of the stress scale (round-off of g is ~1e-15
   ! of it) the scan would have found g > 0 at every point up to mu. Two candidates are
-  ! tried, 4 and 64 times below mu_e = g0 / (2 max(kt Css, kn) sbar(k3_n)), where g
-  ! would vanish if sbar did not change; each test costs about one evaluation of g.
+  ! tried, the scan's points 4 to 16 and 64 to 256 times below mu_e = g0 / (2 max(kt Css,
+  ! kn) sbar(k3_n)), where g would vanish if sbar did not change; each test costs about
+  ! one evaluation of g.
   pure function cap_scan_skip(law, rtr, k3n, g0, hi0) result(first)
     type(law_t), intent(in) :: law
     real(c_double), intent(in) :: rtr(2), k3n, g0, hi0

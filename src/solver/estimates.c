@@ -84,7 +84,6 @@ static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, K
     s->forward_estimate = rnorm == 0 ? 0 : PETSC_INFINITY;
     s->fw_rprev         = rnorm;
     s->floor_stall      = PETSC_FALSE;
-    s->at_floor         = PETSC_FALSE;
     s->residual_floor   = -1;
   } else if (it != s->fw_it) {
     PetscInt nx, nq;
@@ -177,9 +176,8 @@ static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, K
       PetscReal terms, bnorm = atol / s->rtol;
       PetscCall(KSPGetRhs(ksp, &w));
       PetscCall(BwMixedSchurTermsNorm(s->mx, x, w, &terms));
-      s->residual_floor = PETSC_MACHINE_EPSILON * terms / bnorm;
-      PetscCall(PetscInfo(ksp, "step %" PetscInt_FMT ": residual %.3e, the floor of q in double eps |S~| |q| %.3e (relative to |b|: %.3e against %.3e)\n", it, (double)rnorm, (double)(PETSC_MACHINE_EPSILON * terms), (double)(rnorm / bnorm), (double)s->residual_floor));
-      s->at_floor = rnorm <= PETSC_MACHINE_EPSILON * terms ? PETSC_TRUE : PETSC_FALSE;
+      PetscCall(PetscInfo(ksp, "step %" PetscInt_FMT ": residual %.3e, the floor of q in double eps |S~| |q| %.3e (relative to |b|: %.3e against %.3e)\n", it, (double)rnorm, (double)(PETSC_MACHINE_EPSILON * terms), (double)(rnorm / bnorm), (double)(PETSC_MACHINE_EPSILON * terms / bnorm)));
+      s->residual_floor = rnorm <= PETSC_MACHINE_EPSILON * terms ? PETSC_MACHINE_EPSILON * terms / bnorm : -1;
     }
   }
   if (s->forward_check) floor = it >= 5 && s->forward_estimate <= s->forward_rtol;

@@ -319,7 +319,6 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   path->ran             = PETSC_TRUE;
   s->forward_estimate   = -1; /* not estimated unless the convergence test runs */
   s->condition_estimate = -1;
-  s->at_floor           = PETSC_FALSE;
   s->residual_floor     = -1;
   s->iterations         = 0;
   PetscCall(VecZeroEntries(x));
@@ -441,7 +440,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     *usable = stalled && s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
     if (stalled && s->floor_stall && !(s->check.residual <= s->rtol)) {
       PetscCall(PetscSNPrintf(reason, len, "%s stopped at the round-off floor of the residual after %" PetscInt_FMT " steps: true residual %.3e, estimated displacement error %.1e", path->name, s->iterations, (double)s->check.residual, (double)s->forward_estimate));
-      if (s->at_floor) {
+      if (s->residual_floor > 0) {
         char more[96];
         PetscCall(PetscSNPrintf(more, sizeof(more), " (eps |S~| |q| / |b| %.1e)", (double)s->residual_floor));
         PetscCall(PetscStrlcat(reason, more, len));
@@ -461,7 +460,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     PetscCall(PetscSNPrintf(reason, len, "%s: estimated displacement error %.1e (round-off bound of the factor, condition estimate %.1e) above solver.forward_rtol %.1e (true residual %.3e)", path->name, (double)s->forward_estimate, (double)s->condition_estimate, (double)s->forward_rtol, (double)s->check.residual));
     *usable = PETSC_TRUE;
   } else *ok = *usable = PETSC_TRUE;
-  if (*ok) s->at_floor = PETSC_FALSE; /* met: no floor to name */
+  if (*ok) s->residual_floor = -1; /* met: no floor to name */
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -495,7 +494,7 @@ static PetscErrorCode BwSolverKeepBest(BwSolver s, BwMethod method, Vec x, BwBes
   best->fwd    = s->forward_estimate;
   best->cond   = s->condition_estimate;
   best->schur  = s->schur_used;
-  best->floor  = s->at_floor ? s->residual_floor : -1;
+  best->floor  = s->residual_floor;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -523,7 +522,6 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
   s->fallback_reason[0] = 0;
   s->warning[0]         = 0;
   s->accuracy_met       = PETSC_TRUE;
-  s->at_floor           = PETSC_FALSE;
   s->residual_floor     = -1;
   if (s->trivial) {
     /* K = -I (stress rows only): x = -b, exactly; the displacements are
@@ -626,7 +624,6 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     s->forward_estimate   = best.fwd;
     s->condition_estimate = best.cond;
     s->accuracy_met       = PETSC_FALSE;
-    s->at_floor           = best.floor > 0 ? PETSC_TRUE : PETSC_FALSE;
     s->residual_floor     = best.floor;
     if (best.cond > 0) PetscCall(PetscSNPrintf(cond, sizeof(cond), ", condition estimate %.1e", (double)best.cond));
     if (s->check.residual <= s->rtol)
@@ -672,7 +669,7 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
   PetscCall(BwReportString(r, "warning", s->warning));
   PetscCall(BwReportReal(r, "rtol", s->rtol));
   PetscCall(BwReportReal(r, "residual", s->check.residual));
-  PetscCall(BwReportReal(r, "residual_floor", s->at_floor ? s->residual_floor : -1));
+  PetscCall(BwReportReal(r, "residual_floor", s->residual_floor));
   PetscCall(BwReportReal(r, "residual_equilibrium", s->check.equilibrium));
   PetscCall(BwReportReal(r, "residual_compatibility", s->check.compatibility));
   PetscCall(BwReportReal(r, "forward_rtol", s->forward_rtol));

@@ -60,8 +60,7 @@ struct _n_BwSolver {
   PetscInt     fw_it;
   PetscReal    fw_rprev;    /* the last step's residual norm */
   PetscBool    floor_stall; /* the last refinement stopped at the residual's round-off floor, its displacements within forward_rtol */
-  PetscBool    at_floor;       /* the last refinement stopped within the floor that rounding q to double leaves (BwMixedSchurTermsNorm) */
-  PetscReal    residual_floor; /* that floor relative to |b|, as the residual; -1 not measured */
+  PetscReal    residual_floor; /* where the last refinement stopped within the floor that rounding q to double leaves (BwMixedSchurTermsNorm): that floor relative to |b|, as the residual; else -1 */
 };
 
 /* schur.c: the Schur PC on an outer KSP, its Schur solve with prefix

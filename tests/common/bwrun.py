@@ -4,7 +4,7 @@ Python package of this checkout (python/blockwall: launch.py, results.py).
 The executable and mpiexec come from the environment set by ctest
 (BW_EXE, BW_MPIEXEC); every run writes into its own temporary directory.
 The names below are the tests' API: run, solve, call, start, budget, read,
-rel_err, expect, each, Failure, TimedOut, EXE, ENV, MPIEXEC.
+rel_err, expect, each, share, Failure, TimedOut, EXE, ENV, MPIEXEC.
 
 Every process a test starts goes through run, solve, call or start, and is
 watched (blockwall.launch.Watched): if it has not ended when the test's
@@ -126,3 +126,10 @@ def each(items, check, label=str):
         print(f"FAIL: {len(failed)} of {len(items)}: {', '.join(failed)}")
         sys.exit(1)
     return results
+
+
+def share(items, k, n):
+    """The K-th of N consecutive parts of items (K = 1..N), near-equal in
+    size: one ctest test's part of a case list."""
+    items = list(items)
+    return items[(k - 1) * len(items) // n:k * len(items) // n]

@@ -43,7 +43,7 @@ ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(HERE, "..", "common"))
 sys.path.insert(0, os.path.join(HERE, "..", "geometry"))
 sys.path.insert(0, os.path.join(ROOT, "examples"))
-from bwrun import Failure, call, expect, rel_err, solve  # noqa: E402
+from bwrun import Failure, call, each, expect, rel_err, share, solve  # noqa: E402
 from check_file import same  # noqa: E402
 import geomlib  # noqa: E402
 import blockwall as bw  # noqa: E402
@@ -331,16 +331,8 @@ def defect(name):
 def defects(k):
     """The K-th half of DEFECTS (K = 1, 2), each checked as defect(name), in
     one Python process; every defect run and reported."""
-    names = list(DEFECTS)
-    names = names[(k - 1) * len(names) // 2:k * len(names) // 2]
-    failures = []
-    for name in names:
-        try:
-            defect(name)
-        except Failure as e:
-            print(f"FAIL {e}")
-            failures.append(str(e))
-    expect(not failures, f"{len(failures)} of {len(names)} defects failed:\n" + "\n".join(failures))
+    names = share(DEFECTS, k, 2)
+    each(names, defect)
     print(f"{len(names)} defects (half {k} of 2) refused")
 
 

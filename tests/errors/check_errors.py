@@ -9,7 +9,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
-from bwrun import each, expect, run  # noqa: E402
+from bwrun import each, expect, run, share  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 C = os.path.join(HERE, "cases")
@@ -93,5 +93,5 @@ if __name__ == "__main__":
         if sys.argv[2:] not in (["1"], ["2"]):
             sys.exit(f"check_errors.py part K: K is 1 or 2, got {sys.argv[2:]}")
         k = int(sys.argv[2])
-        names = list(CASES)[(k - 1) * len(CASES) // 2:k * len(CASES) // 2]
+        names = share(CASES, k, 2)
     each(names, check)
