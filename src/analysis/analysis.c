@@ -53,6 +53,8 @@ PetscErrorCode BwAnalysisSetFromOptions(BwAnalysis a, BwProblem *p)
 {
   PetscFunctionBeginUser;
   PetscCall(BwSceneBool(p->scene, "-analysis_newton_monitor", "Nonlinear joints: one line per Newton iteration (residual, monitor gap, modes changed)", &p->newton_monitor, NULL));
+  p->newton_keep_start = PETSC_TRUE;
+  PetscCall(BwSceneBool(p->scene, "-analysis_newton_keep_start", "Nonlinear joints, load or displacement control: a step's first Newton iteration keeps the matrix (its factor) of the last iteration of the step before", &p->newton_keep_start, NULL));
   if (a->setfromoptions) PetscCall(a->setfromoptions(a, p));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -91,7 +93,7 @@ PetscErrorCode BwProblemPrintHead(BwProblem *p)
 PetscErrorCode BwProblemPrintTail(BwProblem *p, const char files[])
 {
   PetscLogDouble total, cur, peak;
-  char           blas[PETSC_MAX_PATH_LEN];
+  char           blas[PETSC_MAX_PATH_LEN], kernels[64];
 
   PetscFunctionBeginUser;
   PetscCall(BwLogTotal(p->log, &total));
@@ -100,7 +102,8 @@ PetscErrorCode BwProblemPrintTail(BwProblem *p, const char files[])
   PetscCall(PetscPrintf(p->comm, "  time [s]:"));
   for (int ph = 0; ph < BW_NPHASES; ph++) PetscCall(PetscPrintf(p->comm, " %s %.3f,", BwPhaseNames[ph], p->log->seconds[ph]));
   PetscCall(PetscPrintf(p->comm, " total %.3f\n", total));
-  PetscCall(PetscPrintf(p->comm, "  memory: peak %.1f MB over all ranks (%.0f bytes per block); BLAS %s\n", peak / 1048576.0, peak / (double)p->geom->nblocks_global, blas));
+  PetscCall(BwBlasKernels(kernels, sizeof(kernels)));
+  PetscCall(PetscPrintf(p->comm, "  memory: peak %.1f MB over all ranks (%.0f bytes per block); BLAS %s%s%s%s\n", peak / 1048576.0, peak / (double)p->geom->nblocks_global, blas, kernels[0] ? " (OpenBLAS " : "", kernels, kernels[0] ? " kernels)" : ""));
   PetscCall(PetscPrintf(p->comm, "  output: %s\n", files));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

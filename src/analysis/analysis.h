@@ -24,6 +24,7 @@ typedef struct {
   char       title[256];
   PetscBool  checked; /* the solvers' own options were checked */
   PetscBool  newton_monitor; /* analysis.newton_monitor: a line per Newton iteration */
+  PetscBool  newton_keep_start; /* analysis.newton_keep_start: see BwNewtonAttempt */
 } BwProblem;
 
 typedef struct _n_BwAnalysis *BwAnalysis;
