@@ -175,7 +175,8 @@ int main(int argc, char **argv)
   PetscMPIInt    rank;
   int            code = 0;
 
-  BwProcessDefaults(); /* before MPI: util/process.c */
+  BwProcessBlasKernels(argv); /* may start the process again: first */
+  BwProcessDefaults();          /* before MPI: util/process.c */
   if (BwSignalsInstallEarly()) {
     fprintf(stderr, "blockwall: error: cannot install a signal handler\n");
     return 3;

@@ -513,6 +513,8 @@ static PetscErrorCode BwOutputWriteFile(BwOutput out, BwH5File h, const BwXdmfLa
     char blas[PETSC_MAX_PATH_LEN];
     PetscCall(BwBlasName(blas, sizeof(blas)));
     PetscCall(BwH5FileAttrString(h, "/solver", "blas", blas));
+    PetscCall(BwBlasKernels(blas, sizeof(blas)));
+    PetscCall(BwH5FileAttrString(h, "/solver", "blas_kernels", blas));
   }
   {
     PetscLogDouble cur, peak;

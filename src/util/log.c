@@ -121,6 +121,16 @@ PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char w
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode BwBlasKernels(char name[], size_t len)
+{
+  char *(*corename)(void);
+
+  PetscFunctionBeginUser;
+  *(void **)(&corename) = dlsym(RTLD_DEFAULT, "openblas_get_corename");
+  (void)snprintf(name, len, "%s", corename && corename() ? corename() : "");
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwBlasName(char name[], size_t len)
 {
   FILE *f;

@@ -54,3 +54,6 @@ PetscErrorCode BwBlasSetThreadsForRows(PetscInt rows);
 /* Path of the BLAS library this process computes with: the one its dgemm_
  * binds to (else the first BLAS in /proc/self/maps). */
 PetscErrorCode BwBlasName(char name[], size_t len);
+/* OpenBLAS's kernels in use (openblas_get_corename: "Haswell",
+ * "SkylakeX", "Zen", ...), "" for another BLAS. */
+PetscErrorCode BwBlasKernels(char name[], size_t len);

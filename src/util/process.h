@@ -10,3 +10,8 @@ void BwProcessDefaults(void);
 /* Removes the private session directory of a rank started without
  * mpiexec (process.c); runs at exit by itself, call it before _exit. */
 void BwProcessRemoveSessionBase(void);
+
+/* Where OpenBLAS fell back to its generic kernels on a CPU it does not
+ * know but whose AVX2/AVX-512 it could use, starts the process again with
+ * OPENBLAS_CORETYPE set (process.c). Call first in main(), before MPI. */
+void BwProcessBlasKernels(char **argv);
