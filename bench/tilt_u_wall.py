@@ -8,7 +8,7 @@ c 0.15 MPa, GfII 50 N/m, tan(phi) 0.6, tan(psi) 0), its weight held and
 lambda times it along -X3 (the tilting table), displacement control on
 the facade's top course.
 
-    python3 bench/tilt_u_wall.py [--exe build/bin/blockwall] [--old OTHER/bin/blockwall] [--reps 3] [--steps 160] [--target -0.02] [--scheme implex] [--no-write]
+    python3 bench/tilt_u_wall.py [--exe build/bin/blockwall] [--old OTHER/bin/blockwall] [--reps 3] [--steps 160] [--target -0.02] [--scheme implex] [--ranks 2] [--no-write]
 
 Reports whole-process seconds (median, min-max of --reps), the steps
 before and after the peak, Newton iterations per step, linear solves and
@@ -94,6 +94,7 @@ def main():
     ap.add_argument("--steps", type=int, default=160)
     ap.add_argument("--target", type=float, default=-0.02)
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--ranks", type=int, default=1, help="MPI ranks (mpiexec -n) for both builds; default 1, without mpiexec")
     ap.add_argument("--scheme", default=None, help="analysis.pushover.scheme (auto, newton, implex); default: the scene's (auto)")
     args = ap.parse_args()
     extra = ["-analysis_pushover_scheme", args.scheme] if args.scheme else []
@@ -113,16 +114,17 @@ def main():
             for i, (label, exe) in enumerate(builds):
                 out = os.path.join(tmp, f"out{i}.h5")
                 t0 = time.perf_counter()
-                p = subprocess.run([exe, "-scene", scene, "-output_file", out, *extra], capture_output=True, text=True, env=ENV)
+                launch = ["mpiexec", "-n", str(args.ranks)] if args.ranks > 1 else []
+                p = subprocess.run([*launch, exe, "-scene", scene, "-output_file", out, *extra], capture_output=True, text=True, env=ENV)
                 times[exe].append(time.perf_counter() - t0)
                 if p.returncode:
                     raise SystemExit(f"blockwall ({exe}) failed: {p.stderr[-2000:]}")
                 print(f"run {r + 1} {label.rstrip(': ') or exe}: {times[exe][-1]:.2f} s", flush=True)
                 last[exe] = summary(out)
     cmd = f"python3 bench/tilt_u_wall.py --reps {args.reps} --steps {args.steps} --target {args.target}" + \
-        (f" --scheme {args.scheme}" if args.scheme else "") + (f" --old {args.old}" if args.old else "")
+        (f" --scheme {args.scheme}" if args.scheme else "") + (f" --ranks {args.ranks}" if args.ranks > 1 else "") + (f" --old {args.old}" if args.old else "")
     lines = [f"### Tilting U-wall pushover, {datetime.date.today().isoformat()}", "",
-             f"{machine()}; blockwall 1 rank; `{cmd}`" + (" (the builds alternated)" if args.old else ""), ""]
+             f"{machine()}; blockwall {args.ranks} rank{'s' if args.ranks > 1 else ''}; `{cmd}`" + (" (the builds alternated)" if args.old else ""), ""]
     for label, exe in builds:
         lines += report(label, times[exe], last[exe], args)
     lines.append("")
