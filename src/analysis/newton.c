@@ -292,6 +292,25 @@ static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscBoo
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* x = K'^-1 b for a b that does not change (the pattern's loads, the
+ * monitor's unit vector), solved again only where K' changed since
+ * (*state: the operator's values state x was solved with, -1 none): an
+ * IMPL-EX run's matrix is the same at every step, and a step's first
+ * iteration keeps the last step's. A failed solve leaves *state -1. */
+static PetscErrorCode BwNewtonSolveOperator(BwNewton nw, Vec b, Vec x, PetscInt *state, PetscBool *ok)
+{
+  PetscInt now;
+
+  PetscFunctionBeginUser;
+  *ok = PETSC_TRUE;
+  PetscCall(BwMixedGetValuesState(nw->mx, &now));
+  if (now == *state) PetscFunctionReturn(PETSC_SUCCESS);
+  *state = -1;
+  PetscCall(BwNewtonLinearSolve(nw, b, x, ok));
+  if (*ok) *state = now;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* One step of Newton under the given control; target: the monitor's
  * value (displacement) or the energy to dissipate (dissipation). */
 static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lambda, BwNewtonControl control, PetscReal target, PetscBool *converged)
@@ -446,24 +465,11 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
         PetscCall(VecZeroEntries(nw->e));
         PetscCall(BwVecAddEntry(nw->e, nw->mon_row, 1.0));
       }
-      {
-        /* K'^-1 bP and K'^-1 e depend on K' alone: again only where its
-         * values changed (not on an iteration that kept the matrix) */
-        PetscInt state;
-        PetscCall(BwMixedGetValuesState(nw->mx, &state));
-        if (state != nw->dx2_state) {
-          nw->dx2_state = -1;
-          PetscCall(BwNewtonLinearSolve(nw, nw->bP, nw->dx2, &ok));
-          if (!ok) break;
-          nw->dx2_state = state;
-        }
-        if (state != nw->dx3_state) {
-          nw->dx3_state = -1;
-          PetscCall(BwNewtonLinearSolve(nw, nw->e, nw->dx3, &ok));
-          if (!ok) break;
-          nw->dx3_state = state;
-        }
-      }
+      /* K'^-1 bP and K'^-1 e depend on K' alone */
+      PetscCall(BwNewtonSolveOperator(nw, nw->bP, nw->dx2, &nw->dx2_state, &ok));
+      if (!ok) break;
+      PetscCall(BwNewtonSolveOperator(nw, nw->e, nw->dx3, &nw->dx3_state, &ok));
+      if (!ok) break;
       PetscCall(BwNewtonEnergy(nw, nw->xn, lam0, lam, PETSC_TRUE, &w, &d, &dDdl));
       PetscCall(VecDot(nw->g, nw->dx, &ga));
       PetscCall(VecDot(nw->g, nw->dx2, &gd));
@@ -517,16 +523,8 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     if (!ok) break;
     if (displacement) {
       PetscReal d1, d2;
-      PetscInt  state;
-      /* K'^-1 bP again only where K' changed: an IMPL-EX run's matrix is
-       * the same at every step, and so is this solve */
-      PetscCall(BwMixedGetValuesState(nw->mx, &state));
-      if (state != nw->dx2_state) {
-        nw->dx2_state = -1;
-        PetscCall(BwNewtonLinearSolve(nw, nw->bP, nw->dx2, &ok));
-        if (!ok) break;
-        nw->dx2_state = state;
-      }
+      PetscCall(BwNewtonSolveOperator(nw, nw->bP, nw->dx2, &nw->dx2_state, &ok));
+      if (!ok) break;
       PetscCall(BwVecEntry(nw->dx, nw->mon_row, &d1));
       PetscCall(BwVecEntry(nw->dx2, nw->mon_row, &d2));
       if (!(PetscAbsReal(d2) > 0)) {
