@@ -121,6 +121,8 @@ UNIQUE = {
 # the joints of these never dissipate (ft = c = 0 and no slip: rocking on
 # no-tension joints); dissipation control may stay displacement control
 ELASTIC = ("overturning", "stack_overturn")
+# the pattern pushes the monitor's dof alone (bP = s e)
+ON_MONITOR = ("softening",)
 
 
 def pushover(tmp, text, control, ranks, args=()):
@@ -132,7 +134,26 @@ def pushover(tmp, text, control, ranks, args=()):
     r = bw.read(out)
     s = r.solver
     stop = s["stop_reason"].decode() if isinstance(s["stop_reason"], bytes) else s["stop_reason"]
+    SOLVER[control] = s
     return r.history["monitor"], r.history["load_factor"], r.history["residual"], stop
+
+
+# the solver's record of the last run under each control
+SOLVER = {}
+
+
+def solves_per_iteration(name):
+    """Where the pattern pushes the monitor's dof alone (bP = s e), a
+    dissipation-controlled iteration solves K' twice (-F and e; K'^-1 bP is
+    s K'^-1 e), displacement and load control at most twice (-F and bP,
+    the latter only where K' changed): at most two solves per Newton
+    iteration over the run. Three before 2026-11-28: 2.96 per iteration on
+    bench/pushover.py's wall."""
+    s = SOLVER["dissipation"]
+    its, solves = int(s["newton_iterations"]), int(s["linear_solves"])
+    expect(0 < solves <= 2 * its, f"{name}: {solves} linear solves for {its} Newton iterations under dissipation control "
+                                  "(the pattern pushes the monitor alone: at most 2 per iteration)")
+    return solves / its
 
 
 def on_grid(u, ud, du):
@@ -166,6 +187,7 @@ def unique_case(name, ranks):
                   f"the displacement run's curve to {e0:.1e} of the peak")
             return
         expect(len(off) > 0, f"{name}: every dissipation-control step is on the displacement grid: nothing to compare")
+        rate = solves_per_iteration(name) if name in ON_MONITOR else None
         # the steps before the switch: the same computation (the switch's guard)
         first = off[0]
         e0 = np.max(np.abs(le[:first] - ld[:first])) / peak if first else 0.0
@@ -184,7 +206,8 @@ def unique_case(name, ranks):
             expect(e <= 1e-8, f"{name}: at u = {ue[k]:.9e} (step {k} under dissipation control) lambda {le[k]:.12g}, "
                               f"displacement control {lr[-1]:.12g}: {e:.2e} of the peak")
         print(f"{name:15s} {ranks} rank(s): {len(ue) - 1} steps, {len(off)} energy-controlled off the grid from step {first}; "
-              f"at {len(picks)} of them a displacement run to u_k gives lambda_k to {worst:.1e} of the peak {peak:.6g}")
+              f"at {len(picks)} of them a displacement run to u_k gives lambda_k to {worst:.1e} of the peak {peak:.6g}"
+              + (f"; {rate:.2f} solves per Newton iteration" if rate else ""))
 
 
 def wall_case(ranks):
@@ -201,6 +224,7 @@ def wall_case(ranks):
         du = ud[1] - ud[0]
         off = np.nonzero(~on_grid(ue, ud, du))[0]
         expect(len(off) > 0, "wall: every dissipation-control step is on the displacement grid: nothing to compare")
+        rate = solves_per_iteration("wall")
         first = off[0]
         e0 = np.max(np.abs(le[:first] - ld[:first])) / peak
         expect(e0 <= 1e-9, f"wall: the steps before the switch differ by {e0:.2e} of the peak")
@@ -232,7 +256,7 @@ def wall_case(ranks):
             expect(e <= tol, f"wall: at u = {ue[k]:.6e} lambda {le[k]:.9g}, the displacement curve {ref:.9g}: "
                              f"{e / peak:.2e} of the peak, outside 12x its error estimate {tol / peak:.2e}")
         print(f"wall {ranks} rank(s): {len(ue) - 1} steps, switch at step {first}; steps before it equal ({e0:.1e}); past it, "
-              f"at {len(picks)} of its {len(off)} energy-controlled steps, within {worst:.1e} of the peak of the displacement curve (its error estimate {est / peak:.1e}, band {band:.1e})")
+              f"at {len(picks)} of its {len(off)} energy-controlled steps, within {worst:.1e} of the peak of the displacement curve (its error estimate {est / peak:.1e}, band {band:.1e}); {rate:.2f} solves per Newton iteration")
 
 
 if __name__ == "__main__":
