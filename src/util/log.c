@@ -6,6 +6,7 @@
 #include <dlfcn.h>
 #include <stdlib.h>
 #include "util/log.h"
+#include "util/process.h"
 #include "util/compat.h"
 
 const char *const BwPhaseNames[BW_NPHASES] = {"generate", "partition", "assemble", "setup", "solve", "recover", "write"};
@@ -123,11 +124,10 @@ PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char w
 
 PetscErrorCode BwBlasKernels(char name[], size_t len)
 {
-  char *(*corename)(void);
+  const char *kernels = BwProcessOpenBlasKernels();
 
   PetscFunctionBeginUser;
-  *(void **)(&corename) = dlsym(RTLD_DEFAULT, "openblas_get_corename");
-  (void)snprintf(name, len, "%s", corename && corename() ? corename() : "");
+  (void)snprintf(name, len, "%s", kernels ? kernels : "");
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -141,14 +141,20 @@ void BwProcessDefaults(void)
  * only when loaded. A user's own OPENBLAS_CORETYPE wins, and a process
  * started again finds it set, so this happens at most once. Another BLAS
  * (the reference BLAS, no openblas_get_corename) is left alone. */
-void BwProcessBlasKernels(char **argv)
+const char *BwProcessOpenBlasKernels(void)
 {
   char *(*corename)(void);
+
+  *(void **)(&corename) = dlsym(RTLD_DEFAULT, "openblas_get_corename");
+  return corename ? corename() : NULL;
+}
+
+void BwProcessBlasKernels(char **argv)
+{
   const char *name, *kernels = NULL;
 
   if (getenv("OPENBLAS_CORETYPE")) return;
-  *(void **)(&corename) = dlsym(RTLD_DEFAULT, "openblas_get_corename");
-  if (!corename || !(name = corename()) || strcmp(name, "Prescott")) return;
+  if (!(name = BwProcessOpenBlasKernels()) || strcmp(name, "Prescott")) return;
 #if defined(__x86_64__) && defined(__GNUC__)
   __builtin_cpu_init();
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl")) kernels = "SkylakeX";

@@ -15,3 +15,7 @@ void BwProcessRemoveSessionBase(void);
  * know but whose AVX2/AVX-512 it could use, starts the process again with
  * OPENBLAS_CORETYPE set (process.c). Call first in main(), before MPI. */
 void BwProcessBlasKernels(char **argv);
+
+/* OpenBLAS's kernels in use (openblas_get_corename: "Haswell", "SkylakeX",
+ * "Prescott", ...), NULL for another BLAS. */
+const char *BwProcessOpenBlasKernels(void);

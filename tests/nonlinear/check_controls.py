@@ -147,12 +147,15 @@ def solves_per_iteration(name):
     dissipation-controlled iteration solves K' twice (-F and e; K'^-1 bP is
     s K'^-1 e), displacement and load control at most twice (-F and bP,
     the latter only where K' changed): at most two solves per Newton
-    iteration over the run. Three before 2026-11-28: 2.96 per iteration on
-    bench/pushover.py's wall."""
+    iteration over the run (2.00 and 1.98 measured here, either BLAS).
+    Three per dissipation-controlled iteration before 2026-11-28 (2.98 on
+    the softening scene). The bound allows 2.25: a linear solve that fails
+    ends its attempt before the iteration is counted, which round-off of
+    another CPU could make happen a few times; none happens here."""
     s = SOLVER["dissipation"]
     its, solves = int(s["newton_iterations"]), int(s["linear_solves"])
-    expect(0 < solves <= 2 * its, f"{name}: {solves} linear solves for {its} Newton iterations under dissipation control "
-                                  "(the pattern pushes the monitor alone: at most 2 per iteration)")
+    expect(0 < solves <= 2.25 * its, f"{name}: {solves} linear solves for {its} Newton iterations under dissipation control "
+                                     "(the pattern pushes the monitor alone: 2 per iteration, 2.25 allowed)")
     return solves / its
 
 
