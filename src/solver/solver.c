@@ -363,14 +363,19 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     if (!ierr) ierr = VecISCopy(x, isq, SCATTER_FORWARD, s->xq);
     if (!ierr) ierr = BwMixedStressesFromDofs(s->mx, b, x);
   } else if (!ierr) {
-    /* the whole system: its KSP's own relative tolerance (options may have
-     * set it), loosened for this solve alone where a correction allows */
+    /* the whole system: its KSP's own tolerances (options may have set
+     * them), with a correction's absolute one for this solve alone. Not as
+     * a relative tolerance: where the right-hand side is already below
+     * what Newton needs (an energy step whose residual has converged), it
+     * would be >= 1, which KSP refuses (the ~1e4-block wall's direct
+     * fallback, with an experimental law) */
     PetscReal kr0, ka0, kd0;
     PetscInt  km0;
+    PetscBool loosen = (PetscBool)(!s->forward_check && s->correction_atol > 0);
     ierr = KSPGetTolerances(path->ksp, &kr0, &ka0, &kd0, &km0);
-    if (!ierr && rtol > kr0) ierr = KSPSetTolerances(path->ksp, rtol, ka0, kd0, km0);
+    if (!ierr && loosen) ierr = KSPSetTolerances(path->ksp, kr0, PetscMax(ka0, s->correction_atol), kd0, km0);
     if (!ierr) ierr = KSPSolve(path->ksp, b, x);
-    if (!ierr && rtol > kr0) ierr = KSPSetTolerances(path->ksp, kr0, ka0, kd0, km0);
+    if (!ierr && loosen) ierr = KSPSetTolerances(path->ksp, kr0, ka0, kd0, km0);
   }
   PetscCall(PetscPopErrorHandler());
   if (!ierr) {

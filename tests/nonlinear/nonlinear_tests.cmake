@@ -41,6 +41,7 @@ bw_py_test(nonlinear.capacity nonlinear nonlinear/check_past_peak.py capacity)
 # of it, every written step a converged equilibrium.
 bw_py_test(nonlinear.same_curve_1 nonlinear nonlinear/check_controls.py same_curve 1)
 bw_py_test(nonlinear.same_curve_2 "nonlinear;mpi" nonlinear/check_controls.py same_curve 2)
+bw_py_test(nonlinear.same_curve_direct nonlinear nonlinear/check_controls.py direct)
 bw_py_test(nonlinear.wall_past_peak_2 "nonlinear;mpi" nonlinear/check_wall_past_peak.py 2)
 
 # The IMPL-EX scheme (issue 30): the sliding plateau exactly, a softening
