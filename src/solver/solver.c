@@ -367,8 +367,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
      * them), with a correction's absolute one for this solve alone. Not as
      * a relative tolerance: where the right-hand side is already below
      * what Newton needs (an energy step whose residual has converged), it
-     * would be >= 1, which KSP refuses (the ~1e4-block wall's direct
-     * fallback, with an experimental law) */
+     * would be >= 1, which KSP refuses (nonlinear.same_curve_direct) */
     PetscReal kr0, ka0, kd0;
     PetscInt  km0;
     PetscBool loosen = (PetscBool)(!s->forward_check && s->correction_atol > 0);
