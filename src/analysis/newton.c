@@ -313,19 +313,19 @@ static inline PetscReal BwNewtonCorrectionTolerance(BwNewton nw)
 
 /* K dx = rhs with the current tangents; false (and the reason) if no
  * usable answer. The solver's own checks stand; its error is caught.
- * atol > 0: the residual the solve needs at most (absolute, the norm of
- * the residual vector), where less would not show in Newton's next
- * residual (BwNewtonCorrectionTolerance); 0: solver.rtol of rhs. */
-static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscReal atol, PetscBool *ok)
+ * rtol, atol: the residual the solve needs at most, relative to rhs and
+ * absolute (the norm of the residual vector), where less would not show
+ * in Newton's next residual (BwSolverSetCorrectionTolerance). */
+static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscReal rtol, PetscReal atol, PetscBool *ok)
 {
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   PetscCall(BwSolverSetForwardCheck(nw->p->solver, PETSC_FALSE));
-  PetscCall(BwSolverSetCorrectionTolerance(nw->p->solver, atol));
+  PetscCall(BwSolverSetCorrectionTolerance(nw->p->solver, rtol, atol));
   ierr = BwSolverSolve(nw->p->solver, rhs, dx, &nw->log);
-  PetscCall(BwSolverSetCorrectionTolerance(nw->p->solver, 0));
+  PetscCall(BwSolverSetCorrectionTolerance(nw->p->solver, 0, 0));
   PetscCall(BwSolverSetForwardCheck(nw->p->solver, PETSC_TRUE));
   PetscCall(PetscPopErrorHandler());
   nw->total_solves++;
@@ -348,11 +348,7 @@ static PetscErrorCode BwNewtonSolveOperator(BwNewton nw, Vec b, Vec x, PetscInt 
   PetscCall(BwMixedGetValuesState(nw->mx, &now));
   if (now == *state) PetscFunctionReturn(PETSC_SUCCESS);
   *state = -1;
-  {
-    PetscReal bn;
-    PetscCall(VecNorm(b, NORM_2, &bn));
-    PetscCall(BwNewtonLinearSolve(nw, b, x, BW_NEWTON_SOLVE_FRACTION * nw->rtol * bn, ok));
-  }
+  PetscCall(BwNewtonLinearSolve(nw, b, x, BW_NEWTON_SOLVE_FRACTION * nw->rtol, 0, ok));
   if (*ok) *state = now;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -502,7 +498,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
       PetscCheck(nw->mon_row >= 0, nw->p->comm, PETSC_ERR_ORDER, "dissipation control without a monitor");
       PetscCall(BwMixedSetSpring(nw->mx, nw->mon_block, nw->mon_dof, 1.0));
       PetscCall(VecScale(nw->F, -1.0));
-      PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, BwNewtonCorrectionTolerance(nw), &ok));
+      PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, 0, BwNewtonCorrectionTolerance(nw), &ok));
       PetscCall(VecScale(nw->F, -1.0));
       if (!ok) break;
       if (!nw->dx2) PetscCall(VecDuplicate(nw->x, &nw->dx2));
@@ -573,7 +569,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     PetscCall(BwMixedSetSpring(nw->mx, displacement ? nw->mon_block : -1, nw->mon_dof, 1.0));
     PetscCall(VecScale(nw->F, -1.0));
     if (displacement) PetscCall(BwVecAddEntry(nw->F, nw->mon_row, gap));
-    PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, BwNewtonCorrectionTolerance(nw), &ok));
+    PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, 0, BwNewtonCorrectionTolerance(nw), &ok));
     if (displacement) PetscCall(BwVecAddEntry(nw->F, nw->mon_row, -gap));
     PetscCall(VecScale(nw->F, -1.0));
     if (!ok) break;

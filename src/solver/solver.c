@@ -198,10 +198,11 @@ PetscErrorCode BwSolverSetForwardCheck(BwSolver s, PetscBool check)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwSolverSetCorrectionTolerance(BwSolver s, PetscReal atol)
+PetscErrorCode BwSolverSetCorrectionTolerance(BwSolver s, PetscReal rtol, PetscReal atol)
 {
   PetscFunctionBeginUser;
-  PetscCheck(atol >= 0 && !PetscIsInfOrNanReal(atol), s->comm, PETSC_ERR_ARG_OUTOFRANGE, "a correction's tolerance must be finite and >= 0, got %g", (double)atol);
+  PetscCheck(rtol >= 0 && rtol < 1 && atol >= 0 && !PetscIsInfOrNanReal(atol), s->comm, PETSC_ERR_ARG_OUTOFRANGE, "a correction's tolerances must be finite, rtol in [0, 1) and atol >= 0, got %g and %g", (double)rtol, (double)atol);
+  s->correction_rtol = rtol;
   s->correction_atol = atol;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -347,7 +348,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   /* the relative residual this solve needs: solver.rtol, or for a Newton
    * correction what Newton asks of it (BwSolverSetCorrectionTolerance) */
   if (!ierr) ierr = VecNorm(b, NORM_2, &bnorm);
-  if (!ierr && !s->forward_check && s->correction_atol > 0 && bnorm > 0) rtol = PetscMax(s->rtol, s->correction_atol / bnorm);
+  if (!ierr && !s->forward_check && bnorm > 0) rtol = PetscMax(PetscMax(s->rtol, s->correction_rtol), s->correction_atol / bnorm);
   if (!ierr && path->qspace) {
     /* on the block dofs: w = b_q + D^T b_r, S~ q = w to rtol of the
      * whole right-hand side (the residual of the full system once the
@@ -364,15 +365,16 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     if (!ierr) ierr = BwMixedStressesFromDofs(s->mx, b, x);
   } else if (!ierr) {
     /* the whole system: its KSP's own tolerances (options may have set
-     * them), with a correction's absolute one for this solve alone. Not as
-     * a relative tolerance: where the right-hand side is already below
-     * what Newton needs (an energy step whose residual has converged), it
-     * would be >= 1, which KSP refuses (nonlinear.same_curve_direct) */
+     * them), with a correction's as an absolute one for this solve alone.
+     * Not as a relative tolerance: where the right-hand side is already
+     * below what Newton needs (an energy step whose residual has
+     * converged), it would be >= 1, which KSP refuses
+     * (nonlinear.same_curve_direct) */
     PetscReal kr0, ka0, kd0;
     PetscInt  km0;
-    PetscBool loosen = (PetscBool)(!s->forward_check && s->correction_atol > 0);
+    PetscBool loosen = (PetscBool)(rtol > s->rtol);
     ierr = KSPGetTolerances(path->ksp, &kr0, &ka0, &kd0, &km0);
-    if (!ierr && loosen) ierr = KSPSetTolerances(path->ksp, kr0, PetscMax(ka0, s->correction_atol), kd0, km0);
+    if (!ierr && loosen) ierr = KSPSetTolerances(path->ksp, kr0, PetscMax(ka0, rtol * bnorm), kd0, km0);
     if (!ierr) ierr = KSPSolve(path->ksp, b, x);
     if (!ierr && loosen) ierr = KSPSetTolerances(path->ksp, kr0, ka0, kd0, km0);
   }

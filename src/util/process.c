@@ -129,6 +129,14 @@ void BwProcessDefaults(void)
   if (singleton) BwProcessIsolateSingleton();
 }
 
+const char *BwProcessOpenBlasKernels(void)
+{
+  char *(*corename)(void);
+
+  *(void **)(&corename) = dlsym(RTLD_DEFAULT, "openblas_get_corename");
+  return corename ? corename() : NULL;
+}
+
 /* OpenBLAS picks its kernels for the CPU when it is loaded, from the CPU's
  * family and model. Debian 12's OpenBLAS (0.3.21) does not know the Intel
  * Xeons of 2023 on (Sapphire and Emerald Rapids, family 6 models 143 and
@@ -141,14 +149,6 @@ void BwProcessDefaults(void)
  * only when loaded. A user's own OPENBLAS_CORETYPE wins, and a process
  * started again finds it set, so this happens at most once. Another BLAS
  * (the reference BLAS, no openblas_get_corename) is left alone. */
-const char *BwProcessOpenBlasKernels(void)
-{
-  char *(*corename)(void);
-
-  *(void **)(&corename) = dlsym(RTLD_DEFAULT, "openblas_get_corename");
-  return corename ? corename() : NULL;
-}
-
 void BwProcessBlasKernels(char **argv)
 {
   const char *name, *kernels = NULL;
