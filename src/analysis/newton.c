@@ -22,7 +22,6 @@ struct _n_BwNewton {
   /* the last solve */
   PetscInt     its, total_its, total_solves;
   PetscReal    residual;
-  PetscReal    residual_scale; /* max(|b|, |x_r|) of the last residual evaluated: what its relative norm is relative to */
   char         reason[512];
   PetscBool    failed_elastic; /* the last dissipation solve failed because no portion flows */
   PetscReal   *load0, *pattern;
@@ -211,12 +210,8 @@ static PetscErrorCode BwNewtonResidual(BwNewton nw, Vec x, PetscReal mu, PetscRe
   PetscCall(VecGetSubVector(x, isr, &xr));
   PetscCall(VecNorm(xr, NORM_2, &rn));
   PetscCall(VecRestoreSubVector(x, isr, &xr));
-  nw->residual_scale = PetscMax(PetscMax(bn, rn), PETSC_SMALL * PETSC_SMALL);
-  *norm              = fn / nw->residual_scale;
-  if (bn == 0 && rn == 0) {
-    *norm              = fn; /* the unloaded, undeformed state */
-    nw->residual_scale = 1;
-  }
+  *norm = fn / PetscMax(PetscMax(bn, rn), PETSC_SMALL * PETSC_SMALL);
+  if (bn == 0 && rn == 0) *norm = fn; /* the unloaded, undeformed state */
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -294,38 +289,16 @@ static PetscErrorCode BwNewtonEnergy(BwNewton nw, Vec x, PetscReal lambda0, Pets
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Inexact Newton: the residual a linear solve needs is a tenth of what
- * Newton's own test allows. What a solve leaves is the linear part of the
- * next residual, so below that it changes nothing Newton sees; solved to
- * solver.rtol of their right-hand sides instead, a cracked 3D wall's
- * solves took a second refinement step with the factor in 61 of 268
- * (bench/tilt_u_wall.py, 30 steps), from 5e-12 to 3e-12 absolute, 2e-10
- * relative, where Newton's tolerance was 1e-8. The correction -F:
- * absolute, rtol times the scale of the residual it corrects. The load
- * pattern's and the monitor's solves are scaled by dlambda and mu:
- * relative to their own right-hand side, a load change per iteration
- * (dlambda bP) being at most the loads' scale. */
-#define BW_NEWTON_SOLVE_FRACTION 0.1
-static inline PetscReal BwNewtonCorrectionTolerance(BwNewton nw)
-{
-  return BW_NEWTON_SOLVE_FRACTION * nw->rtol * nw->residual_scale;
-}
-
 /* K dx = rhs with the current tangents; false (and the reason) if no
- * usable answer. The solver's own checks stand; its error is caught.
- * rtol, atol: the residual the solve needs at most, relative to rhs and
- * absolute (the norm of the residual vector), where less would not show
- * in Newton's next residual (BwSolverSetCorrectionTolerance). */
-static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscReal rtol, PetscReal atol, PetscBool *ok)
+ * usable answer. The solver's own checks stand; its error is caught. */
+static PetscErrorCode BwNewtonLinearSolve(BwNewton nw, Vec rhs, Vec dx, PetscBool *ok)
 {
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   PetscCall(BwSolverSetForwardCheck(nw->p->solver, PETSC_FALSE));
-  PetscCall(BwSolverSetCorrectionTolerance(nw->p->solver, rtol, atol));
   ierr = BwSolverSolve(nw->p->solver, rhs, dx, &nw->log);
-  PetscCall(BwSolverSetCorrectionTolerance(nw->p->solver, 0, 0));
   PetscCall(BwSolverSetForwardCheck(nw->p->solver, PETSC_TRUE));
   PetscCall(PetscPopErrorHandler());
   nw->total_solves++;
@@ -348,7 +321,7 @@ static PetscErrorCode BwNewtonSolveOperator(BwNewton nw, Vec b, Vec x, PetscInt 
   PetscCall(BwMixedGetValuesState(nw->mx, &now));
   if (now == *state) PetscFunctionReturn(PETSC_SUCCESS);
   *state = -1;
-  PetscCall(BwNewtonLinearSolve(nw, b, x, BW_NEWTON_SOLVE_FRACTION * nw->rtol, 0, ok));
+  PetscCall(BwNewtonLinearSolve(nw, b, x, ok));
   if (*ok) *state = now;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -498,7 +471,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
       PetscCheck(nw->mon_row >= 0, nw->p->comm, PETSC_ERR_ORDER, "dissipation control without a monitor");
       PetscCall(BwMixedSetSpring(nw->mx, nw->mon_block, nw->mon_dof, 1.0));
       PetscCall(VecScale(nw->F, -1.0));
-      PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, 0, BwNewtonCorrectionTolerance(nw), &ok));
+      PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, &ok));
       PetscCall(VecScale(nw->F, -1.0));
       if (!ok) break;
       if (!nw->dx2) PetscCall(VecDuplicate(nw->x, &nw->dx2));
@@ -569,7 +542,7 @@ static PetscErrorCode BwNewtonAttempt(BwNewton nw, PetscReal mu, PetscReal *lamb
     PetscCall(BwMixedSetSpring(nw->mx, displacement ? nw->mon_block : -1, nw->mon_dof, 1.0));
     PetscCall(VecScale(nw->F, -1.0));
     if (displacement) PetscCall(BwVecAddEntry(nw->F, nw->mon_row, gap));
-    PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, 0, BwNewtonCorrectionTolerance(nw), &ok));
+    PetscCall(BwNewtonLinearSolve(nw, nw->F, nw->dx, &ok));
     if (displacement) PetscCall(BwVecAddEntry(nw->F, nw->mon_row, -gap));
     PetscCall(VecScale(nw->F, -1.0));
     if (!ok) break;

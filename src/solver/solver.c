@@ -198,15 +198,6 @@ PetscErrorCode BwSolverSetForwardCheck(BwSolver s, PetscBool check)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode BwSolverSetCorrectionTolerance(BwSolver s, PetscReal rtol, PetscReal atol)
-{
-  PetscFunctionBeginUser;
-  PetscCheck(rtol >= 0 && rtol < 1 && atol >= 0 && !PetscIsInfOrNanReal(atol), s->comm, PETSC_ERR_ARG_OUTOFRANGE, "a correction's tolerances must be finite, rtol in [0, 1) and atol >= 0, got %g and %g", (double)rtol, (double)atol);
-  s->correction_rtol = rtol;
-  s->correction_atol = atol;
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 PetscErrorCode BwSolverSetDiagnose(BwSolver s, PetscBool diagnose)
 {
   PetscFunctionBeginUser;
@@ -321,7 +312,6 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   PC                 pc;
   PCFailedReason     pcr  = PC_NOERROR;
   PetscInt           npiv = 0;
-  PetscReal          bnorm = 0, rtol = s->rtol;
 
   PetscFunctionBeginUser;
   *ok                   = PETSC_FALSE;
@@ -345,16 +335,14 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   ierr = KSPSetUp(path->ksp);
   PetscCall(BwLogEnd(log, BW_PHASE_SETUP));
   PetscCall(BwLogBegin(log, BW_PHASE_SOLVE));
-  /* the relative residual this solve needs: solver.rtol, or for a Newton
-   * correction what Newton asks of it (BwSolverSetCorrectionTolerance) */
-  if (!ierr) ierr = VecNorm(b, NORM_2, &bnorm);
-  if (!ierr && !s->forward_check && bnorm > 0) rtol = PetscMax(PetscMax(s->rtol, s->correction_rtol), s->correction_atol / bnorm);
   if (!ierr && path->qspace) {
-    /* on the block dofs: w = b_q + D^T b_r, S~ q = w to rtol of the
+    /* on the block dofs: w = b_q + D^T b_r, S~ q = w to solver.rtol of the
      * whole right-hand side (the residual of the full system once the
      * stresses are T D^ q - b_r), then the stresses */
-    IS isq;
-    ierr = KSPSetTolerances(path->ksp, 0.0, rtol * bnorm, PETSC_DEFAULT, PETSC_DEFAULT);
+    IS        isq;
+    PetscReal bnorm;
+    ierr = VecNorm(b, NORM_2, &bnorm);
+    if (!ierr) ierr = KSPSetTolerances(path->ksp, 0.0, s->rtol * bnorm, PETSC_DEFAULT, PETSC_DEFAULT);
     if (!ierr) ierr = BwMixedSchurRHS(s->mx, b, s->wq);
     /* into a vector of the solver's own, not a view of x: the KSP keeps a
      * reference to its solution after the solve, which a view restored to
@@ -363,21 +351,7 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     if (!ierr) ierr = BwMixedGetFields(s->mx, NULL, &isq);
     if (!ierr) ierr = VecISCopy(x, isq, SCATTER_FORWARD, s->xq);
     if (!ierr) ierr = BwMixedStressesFromDofs(s->mx, b, x);
-  } else if (!ierr) {
-    /* the whole system: its KSP's own tolerances (options may have set
-     * them), with a correction's as an absolute one for this solve alone.
-     * Not as a relative tolerance: where the right-hand side is already
-     * below what Newton needs (an energy step whose residual has
-     * converged), it would be >= 1, which KSP refuses
-     * (nonlinear.same_curve_direct) */
-    PetscReal kr0, ka0, kd0;
-    PetscInt  km0;
-    PetscBool loosen = (PetscBool)(rtol > s->rtol);
-    ierr = KSPGetTolerances(path->ksp, &kr0, &ka0, &kd0, &km0);
-    if (!ierr && loosen) ierr = KSPSetTolerances(path->ksp, kr0, PetscMax(ka0, rtol * bnorm), kd0, km0);
-    if (!ierr) ierr = KSPSolve(path->ksp, b, x);
-    if (!ierr && loosen) ierr = KSPSetTolerances(path->ksp, kr0, ka0, kd0, km0);
-  }
+  } else if (!ierr) ierr = KSPSolve(path->ksp, b, x);
   PetscCall(PetscPopErrorHandler());
   if (!ierr) {
     PetscCall(KSPGetConvergedReason(path->ksp, &kr));
@@ -463,23 +437,23 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
   if (kr < 0) {
     PetscBool stalled = (pcr == PC_NOERROR && npiv == 0 && (kr == KSP_DIVERGED_ITS || kr == KSP_DIVERGED_DTOL)) ? PETSC_TRUE : PETSC_FALSE;
     /* stagnation at the round-off floor of an ill-conditioned system */
-    *usable = stalled && s->check.residual <= PetscMax(PetscSqrtReal(s->rtol), rtol) ? PETSC_TRUE : PETSC_FALSE;
-    if (stalled && s->floor_stall && !(s->check.residual <= rtol)) {
+    *usable = stalled && s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
+    if (stalled && s->floor_stall && !(s->check.residual <= s->rtol)) {
       PetscCall(PetscSNPrintf(reason, len, "%s stopped at the round-off floor of the residual after %" PetscInt_FMT " steps: true residual %.3e, estimated displacement error %.1e", path->name, s->iterations, (double)s->check.residual, (double)s->forward_estimate));
       if (s->residual_floor > 0) {
         char more[96];
         PetscCall(PetscSNPrintf(more, sizeof(more), " (eps |S~| |q| / |b| %.1e)", (double)s->residual_floor));
         PetscCall(PetscStrlcat(reason, more, len));
       }
-    } else if (stalled && s->check.residual <= rtol)
+    } else if (stalled && s->check.residual <= s->rtol)
       PetscCall(PetscSNPrintf(reason, len, "%s: the refinement's corrections did not settle in %" PetscInt_FMT " steps: estimated displacement error %.1e above solver.forward_rtol %.1e (true residual %.3e)", path->name, s->iterations, (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual));
     else
       PetscCall(PetscSNPrintf(reason, len, "%s KSP diverged (%s%s%s) after %" PetscInt_FMT " iterations, true residual %.3e", path->name, KSPConvergedReasons[kr], pcr != PC_NOERROR ? ", " : "", pcr != PC_NOERROR ? PCFailedReasons[pcr] : "", s->iterations, (double)s->check.residual));
   } else if (npiv > 0) {
     PetscCall(PetscSNPrintf(reason, len, "%s: MUMPS found %" PetscInt_FMT " null pivot%s (a singular system)", path->name, npiv, npiv > 1 ? "s" : ""));
-  } else if (!(s->check.residual <= rtol)) {
-    PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses %s %.3e", path->name, (double)s->check.residual, rtol > s->rtol ? "what the Newton correction needs" : "solver.rtol", (double)rtol));
-    *usable = s->check.residual <= PetscMax(PetscSqrtReal(s->rtol), rtol) ? PETSC_TRUE : PETSC_FALSE;
+  } else if (!(s->check.residual <= s->rtol)) {
+    PetscCall(PetscSNPrintf(reason, len, "%s true residual of the full system %.3e misses solver.rtol %.3e", path->name, (double)s->check.residual, (double)s->rtol));
+    *usable = s->check.residual <= PetscSqrtReal(s->rtol) ? PETSC_TRUE : PETSC_FALSE;
   } else if (s->forward_check && !(s->forward_estimate <= s->forward_rtol)) {
     /* the residual met rtol, but the factor's round-off bound says the
      * displacements may not be right to forward_rtol */

@@ -63,13 +63,6 @@ PetscErrorCode BwSolverSetDiagnose(BwSolver solver, PetscBool diagnose);
  * stalls within sqrt(solver.rtol) is accepted rather than refactored on
  * the direct path. */
 PetscErrorCode BwSolverSetForwardCheck(BwSolver solver, PetscBool check);
-/* A Newton correction (no forward check) meets max(max(solver.rtol, rtol)
- * |b|, atol) in the full system's 2-norm, rtol, atol >= 0 (0, 0: solver.rtol
- * |b| alone). Its
- * linear residual is the part of the next nonlinear residual the
- * correction leaves, so a residual far below Newton's own tolerance buys
- * nothing; what it costs is more refinement steps with the factor. */
-PetscErrorCode BwSolverSetCorrectionTolerance(BwSolver solver, PetscReal rtol, PetscReal atol);
 /* Binds the solver to an assembled system and creates its KSPs (no
  * factorisation yet: that is the first solve's set-up phase). */
 PetscErrorCode BwSolverSetUp(BwSolver solver, BwMixed mixed);

@@ -42,7 +42,6 @@ struct _n_BwSolver {
   PetscBool    symmetric;  /* the operators stay symmetric (else LU and GMRES where Cholesky and CG) */
   PetscBool    diagnose;   /* a failed solve names a mechanism (an extra factorisation) */
   PetscBool    forward_check; /* a solve also meets solver.forward_rtol (two refinement steps at least) */
-  PetscReal    correction_rtol, correction_atol; /* a Newton correction: the residual it needs, relative and absolute (0, 0: solver.rtol |b|; BwSolverSetCorrectionTolerance) */
   PetscBool    trivial;    /* no block dof is free: nothing to solve for (BwSolverSetUp) */
   /* outcome of the last solve */
   BwMethod     used;

@@ -284,7 +284,7 @@ if __name__ == "__main__":
             # once became a relative one >= 1 where the residual had
             # converged before the energy, which KSP refused (c782f06: the
             # sliding plateau in 25 steps instead of 12, the softening
-            # scene 205 instead of 92)
+            # scene 205 instead of 92; inexact Newton reverted since)
             for name in ("sliding", "dilatancy", "softening"):
                 unique_case(name, 1, ("-solver_method", "direct"))
             sys.exit(0)
