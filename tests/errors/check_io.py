@@ -176,7 +176,12 @@ def launcher(sig, to):
             expect(p.returncode != 0, f"{signal.Signals(sig).name} to {to} after {after}: exit 0\n{p.stdout[-400:]}")
             expect(len(ours) == 1 and "interrupted by a signal" in ours[0],
                    f"{signal.Signals(sig).name} to {to} after {after}: blockwall's lines {ours}\n{p.stderr}")
-            expect(took < 5, f"{signal.Signals(sig).name} to {to} after {after}: the run took {took:.1f} s to end")
+            # Ended by the signal, not by running on: the same run left alone
+            # takes 111 s here (its writes slowed down), interrupted 0.01-1.1 s
+            # (mpiexec's SIGCONT, a second, SIGTERM). 20 s, not 5: a loaded CI
+            # machine has stood still for seconds (tests/CMakeLists.txt), and
+            # how fast mpiexec reaps its ranks is not what this test is about.
+            expect(took < 20, f"{signal.Signals(sig).name} to {to} after {after}: the run took {took:.1f} s to end")
             check_clean(tmp, old, f"{signal.Signals(sig).name} to {to} after {after}")
             print(f"{signal.Signals(sig).name} to {to} once '{after}' had ended: exit {p.returncode} after {took:.2f} s, "
                   f"one line, the earlier result untouched, nothing created")
