@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """What the failed tests of the last ctest run said: the last lines of each
 one's output, from ctest's own record (Testing/Temporary/LastTest.log and
-LastTestsFailed.log). tools/test prints it after a failing pass and again,
-for every failing pass, as the last thing it writes, so that a log read
-from its end (CI keeps the end of a long log) shows why a test failed
-before how the suite went.
+LastTestsFailed.log). tools/test gathers it after each failing pass and
+prints it, for every failing pass, just before its last line, so that a
+log read from its end (CI keeps the end of a long log) shows why a test
+failed, not only that it did.
 
 usage: failed_output.py TESTING_TEMPORARY_DIR [LINES]
 """
@@ -47,7 +47,7 @@ def main(tmp, keep=30):
     for name in failed_names(tmp):
         lines = said.get(name)
         if lines is None:
-            print(f"--- {name}: no output recorded (killed by ctest's TIMEOUT, or not run)")
+            print(f"--- {name}: no output of it in ctest's record")
             continue
         cut = len(lines) > keep
         print(f"--- {name}: the last {keep if cut else len(lines)} of its {len(lines)} output lines")
