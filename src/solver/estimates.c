@@ -297,7 +297,9 @@ PetscErrorCode BwSolverGetFactorPC(KSP ksp, PC *fpc, Mat *A)
   *A   = NULL;
   PetscCall(BwSchurPCGetInner(ksp, &inner));
   PetscCall(KSPGetPC(inner ? inner : ksp, &pc));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  /* solver.reproducible: a sequential factor on every rank, applied to
+   * the parallel vectors by PCREDUNDANT */
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, PCREDUNDANT, ""));
   if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
   *fpc = pc;
   PetscCall(PCGetOperators(pc, A, NULL));
@@ -319,7 +321,13 @@ PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
   {
     Mat           F;
     MatSolverType type;
-    PetscBool     mumps;
+    PetscBool     mumps, redundant;
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCREDUNDANT, &redundant));
+    if (redundant) { /* every rank's own factor of the whole matrix: the same count on each */
+      KSP rksp;
+      PetscCall(PCRedundantGetKSP(pc, &rksp));
+      PetscCall(KSPGetPC(rksp, &pc));
+    }
     PetscCall(PCFactorGetMatrix(pc, &F));
     PetscCall(MatFactorGetSolverType(F, &type));
     PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));

@@ -110,6 +110,31 @@ PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, BwFactorKind kind, Mat A)
   MatSolverType type;
 
   PetscFunctionBeginUser;
+  if (s->reproducible) {
+    /* A parallel factorisation is not the same from one run to the next:
+     * MUMPS sums its fronts' contributions in the order its dynamically
+     * scheduled tasks end, and SuperLU_DIST on 3 ranks did not repeat
+     * itself either (one matrix factored 10 times on 2 ranks by MUMPS, 6 on 3 by
+     * SuperLU_DIST: 9 and 5 answers differed from the first, by up to
+     * 4e-13 and 1.6e-12 of the answer). Past a
+     * pushover's peak such differences choose among the paths of the
+     * portions that swap (the 412-block wall on 2 ranks: 1.6e-6 apart). A
+     * sequential factor of the whole matrix on every rank (PCREDUNDANT, one
+     * copy per rank) repeats itself; the rest of a run already does. */
+    PetscMPIInt size;
+    KSP         rksp;
+    PC          rpc;
+    PetscCallMPI(MPI_Comm_size(s->comm, &size));
+    PetscCall(PCSetType(pc, PCREDUNDANT));
+    PetscCall(PCRedundantSetNumber(pc, size));
+    PetscCall(PCRedundantGetKSP(pc, &rksp));
+    PetscCall(KSPGetPC(rksp, &rpc));
+    PetscCall(PCSetType(rpc, kind == BW_FACTOR_CHOLESKY ? PCCHOLESKY : PCLU));
+    PetscCall(BwFactorPackage(PETSC_COMM_SELF, kind, &type));
+    PetscCheck(type, s->comm, PETSC_ERR_SUP, "solver.reproducible: this PETSc has no sequential sparse %s factorisation (it has %s)", kind == BW_FACTOR_CHOLESKY ? "Cholesky" : "LU", BwFactorPackages());
+    PetscCall(PCFactorSetMatSolverType(rpc, type));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCall(PCSetType(pc, kind == BW_FACTOR_CHOLESKY ? PCCHOLESKY : PCLU));
   PetscCall(BwFactorPackage(s->comm, kind, &type));
   PetscCheck(type, s->comm, PETSC_ERR_SUP, "this PETSc has no parallel sparse %s factorisation (it has %s): use solver.schur: gamg, or one rank", kind == BW_FACTOR_CHOLESKY ? "Cholesky" : "LU", BwFactorPackages());

@@ -94,6 +94,12 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   PetscCall(BwSceneEnum(scene, "-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance), always, never", 3, when, &w, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_forward_bound", "The round-off part of the forward estimate, where the condition is estimated: auto (extra where D^ is held by its structure, else whole; in 3D above 1e6 rows of K~ cond eps), whole (LAPACK's bound, K~ assembled), schur (the same bound through S^'s factor, nothing of the stresses' size stored), extra (10 x the error that one residual in double-double shows)", 4, bounds, &fb, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_storage", "Saddle operator storage: shell (D^ by its structure), nest (D^ assembled) or aij (one assembled matrix)", 3, BwStorages, &storage, NULL));
+  PetscCall(BwSceneBool(scene, "-solver_reproducible", "On several ranks, factor every matrix whole on each rank, sequentially (PCREDUNDANT), so that a run repeats itself bit for bit on the same machine and ranks (a parallel factorisation, MUMPS's or SuperLU_DIST's, does not). Each rank holds the whole factor, and a factorisation takes as long as on one rank (docs/solvers.md)", &s->reproducible, NULL));
+  {
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(s->comm, &size));
+    if (size == 1) s->reproducible = PETSC_FALSE; /* one rank repeats itself as it is */
+  }
   if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
   if (!fset) s->forward_rtol = s->rtol;
   if (!(s->forward_rtol > 0 && s->forward_rtol <= 1)) PetscCall(BwSceneError(scene, "-solver_forward_rtol", "must be in (0, 1], got %g", (double)s->forward_rtol));

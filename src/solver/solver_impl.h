@@ -40,6 +40,7 @@ struct _n_BwSolver {
   PetscInt     kaij_state; /* the operators' values state Kaij holds */
   PetscInt     values_seen, setups; /* operator values of the last solve; solves that set up a new factor or hierarchy */
   PetscBool    symmetric;  /* the operators stay symmetric (else LU and GMRES where Cholesky and CG) */
+  PetscBool    reproducible; /* -solver_reproducible on several ranks: every factorisation redundant, one sequential factor per rank */
   PetscBool    diagnose;   /* a failed solve names a mechanism (an extra factorisation) */
   PetscBool    forward_check; /* a solve also meets solver.forward_rtol (two refinement steps at least) */
   PetscBool    trivial;    /* no block dof is free: nothing to solve for (BwSolverSetUp) */

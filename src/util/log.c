@@ -173,16 +173,23 @@ PetscErrorCode BwBlasSetThreads(MPI_Comm comm)
   MPI_Comm    node;
   PetscMPIInt local;
   long        cores = sysconf(_SC_NPROCESSORS_ONLN);
-  void (*set)(int);
+  void (*set)(int), (*omp)(int);
 
   PetscFunctionBeginUser;
   if (getenv("OPENBLAS_NUM_THREADS") || getenv("OMP_NUM_THREADS") || getenv("GOTO_NUM_THREADS")) PetscFunctionReturn(PETSC_SUCCESS);
   *(void **)&set = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
-  if (!set) PetscFunctionReturn(PETSC_SUCCESS);
+  /* OpenMP's too, where a library of PETSc's brought it (Debian's
+   * SuperLU_DIST, -schur_pc_factor_mat_solver_type superlu_dist): its
+   * default, a thread per core in every rank, left a 412-block pushover
+   * on 3 ranks of this 2-core machine running for 14 minutes (stopped)
+   * that ends in about 10 s with one thread each (2026-11-28) */
+  *(void **)&omp = dlsym(RTLD_DEFAULT, "omp_set_num_threads");
+  if (!set && !omp) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCallMPI(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
   PetscCallMPI(MPI_Comm_size(node, &local));
   PetscCallMPI(MPI_Comm_free(&node));
-  set((int)PetscMax(1, cores > 0 ? cores / local : 1));
+  if (set) set((int)PetscMax(1, cores > 0 ? cores / local : 1));
+  if (omp) omp((int)PetscMax(1, cores > 0 ? cores / local : 1));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -38,7 +38,8 @@ PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char w
  * or OMP_NUM_THREADS says otherwise. Its default, a thread per core in
  * every rank, oversubscribes the node, and its idle threads spin: on 2
  * ranks of a 2-core machine, 45 % of a pushover's time went to sched_yield.
- * Nothing happens with another BLAS. */
+ * Nothing happens with another BLAS. OpenMP's threads, where PETSc's
+ * libraries brought OpenMP (SuperLU_DIST), are shared out alike. */
 PetscErrorCode BwBlasSetThreads(MPI_Comm comm);
 /* Then, once the size is known: one BLAS thread on a rank whose
  * factorisations have fewer than `rows` BW_BLAS_SHARED_ROWS rows there.

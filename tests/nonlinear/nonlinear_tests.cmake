@@ -43,6 +43,9 @@ bw_py_test(nonlinear.same_curve_1 nonlinear nonlinear/check_controls.py same_cur
 bw_py_test(nonlinear.same_curve_2 "nonlinear;mpi" nonlinear/check_controls.py same_curve 2)
 bw_py_test(nonlinear.same_curve_direct nonlinear nonlinear/check_controls.py direct)
 bw_py_test(nonlinear.wall_past_peak_2 "nonlinear;mpi" nonlinear/check_wall_past_peak.py 2)
+# The same wall twice on 2 ranks with solver.reproducible: bit for bit the
+# same curve and last state (MUMPS's parallel factorisation alone is not).
+bw_py_test(nonlinear.reproducible_2 "nonlinear;mpi" nonlinear/check_reproducible.py 2)
 
 # The IMPL-EX scheme (issue 30): the sliding plateau exactly, a softening
 # crack within its tolerance and with its energy, the held-pull stack to its
