@@ -114,13 +114,13 @@ PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, BwFactorKind kind, Mat A)
     /* A parallel factorisation is not the same from one run to the next:
      * MUMPS sums its fronts' contributions in the order its dynamically
      * scheduled tasks end, and SuperLU_DIST on 3 ranks did not repeat
-     * itself either (one matrix factored 10 times on 2 ranks by MUMPS, 6 on 3 by
-     * SuperLU_DIST: 9 and 5 answers differed from the first, by up to
-     * 4e-13 and 1.6e-12 of the answer). Past a
-     * pushover's peak such differences choose among the paths of the
-     * portions that swap (the 412-block wall on 2 ranks: 1.6e-6 apart). A
-     * sequential factor of the whole matrix on every rank (PCREDUNDANT, one
-     * copy per rank) repeats itself; the rest of a run already does. */
+     * itself either (one matrix factored 10 times on 2 ranks by MUMPS, 6
+     * on 3 by SuperLU_DIST: 9 and 5 answers differed from the first, by
+     * up to 4e-13 and 1.6e-12 of the answer). Past a pushover's peak such
+     * differences choose among the paths of the portions that swap (the
+     * 412-block wall on 2 ranks: 1.6e-6 apart). A sequential factor of the
+     * whole matrix on every rank (PCREDUNDANT, one copy per rank) repeats
+     * itself, and the rest of the runs checked did (docs/solvers.md). */
     PetscMPIInt size;
     KSP         rksp;
     PC          rpc;

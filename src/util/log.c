@@ -174,6 +174,7 @@ PetscErrorCode BwBlasSetThreads(MPI_Comm comm)
   PetscMPIInt local;
   long        cores = sysconf(_SC_NPROCESSORS_ONLN);
   void (*set)(int), (*omp)(int);
+  int         threads;
 
   PetscFunctionBeginUser;
   if (getenv("OPENBLAS_NUM_THREADS") || getenv("OMP_NUM_THREADS") || getenv("GOTO_NUM_THREADS")) PetscFunctionReturn(PETSC_SUCCESS);
@@ -188,8 +189,9 @@ PetscErrorCode BwBlasSetThreads(MPI_Comm comm)
   PetscCallMPI(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
   PetscCallMPI(MPI_Comm_size(node, &local));
   PetscCallMPI(MPI_Comm_free(&node));
-  if (set) set((int)PetscMax(1, cores > 0 ? cores / local : 1));
-  if (omp) omp((int)PetscMax(1, cores > 0 ? cores / local : 1));
+  threads = (int)PetscMax(1, cores > 0 ? cores / local : 1);
+  if (set) set(threads);
+  if (omp) omp(threads);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -5,21 +5,26 @@ peak), run twice on R ranks.
 
 Why a test: a parallel factorisation is not the same from one run to the
 next (of 10 factorisations of one matrix by MUMPS on 2 ranks, 9 gave
-answers up to 4e-13 apart from the first's; SuperLU_DIST on 3, 5 of 6),
-and past the peak such
-round-off chooses among the paths of the portions that swap: this wall on
-2 ranks with MUMPS, six runs, one 1.6e-6 apart from the others, and of
-nine later runs none bit for bit with the first of its three
-(docs/solvers.md). With
-the option every factorisation is a sequential one of the whole matrix on
-each rank (PCREDUNDANT), which repeats itself, and so does the rest of a
-run.
+answers up to 4e-13 apart from the first's; SuperLU_DIST on 3, 5 of 6), and
+past the peak such round-off chooses among the paths of the portions that
+swap: this wall on 2 ranks with MUMPS, six runs, one 1.6e-6 apart from the
+others, and of nine later runs none bit for bit with the first of its three
+(docs/solvers.md). With the option every factorisation is a sequential one
+of the whole matrix on each rank (PCREDUNDANT), which repeats itself, and
+the rest of this run did.
+
+Bit for bit is asserted of one machine against itself, not across
+machines: it takes a sequential factorisation and a BLAS that do the same
+sums in the same order at every run, as they did here with OpenBLAS and
+with the reference BLAS (both passes of tools/test). Across CPUs and BLAS
+only round-off agreement holds, which other tests check
+(nonlinear.same_curve_*, wall_past_peak_2).
 
 What is checked, against what (the first run is the reference, nothing
 else is assumed):
   - the second run's /history (load factor, monitor, residual, Newton
-    iterations per step, dissipation) and its last state's displacements
-    and stresses are equal bit for bit to the first's;
+    iterations per step, dissipation) and its last state's displacements,
+    stresses and portion states are equal bit for bit to the first's;
   - the run went past its peak (at least 30 steps after the largest load
     factor), where the paths can part;
   - /solver schur_solve names the factorisation it used and the answer
