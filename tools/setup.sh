@@ -18,7 +18,10 @@ BW_DEBS=(build-essential gfortran cmake ninja-build pkg-config
 # gdb: the suite's watchdog (python/blockwall/launch.py) prints a backtrace of
 # every rank of a run that hangs before it kills it (without gdb, only the
 # run's last lines).
-BW_TEST_DEBS=(python3-paraview xvfb gdb)
+# libmumps-ptscotch-5.5: Debian's MUMPS built with PT-Scotch, the same
+# version as petsc-dev's, which tests/solver/check_paths.py (analysis)
+# preloads to check that blockwall orders in parallel where MUMPS can.
+BW_TEST_DEBS=(python3-paraview xvfb gdb libmumps-ptscotch-5.5)
 
 bw_install_debs() {
   local missing=() wanted=("${BW_DEBS[@]}")

@@ -306,15 +306,16 @@ PetscErrorCode BwSolverGetFactorPC(KSP ksp, PC *fpc, Mat *A)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Null pivots MUMPS found (INFOG(28)) in the factorisation a path used; 0
- * when the path factored nothing with MUMPS. */
-PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
+/* INFOG(i) of the MUMPS factor a path used; -1 when the path factored
+ * nothing with MUMPS. Through PCREDUNDANT: every rank's own factor of the
+ * whole matrix, the same on each. */
+PetscErrorCode BwSolverMumpsInfog(KSP ksp, PetscInt i, PetscInt *value)
 {
   PC  pc;
   Mat A;
 
   PetscFunctionBeginUser;
-  *npiv = 0;
+  *value = -1;
   PetscCall(BwSolverGetFactorPC(ksp, &pc, &A));
   if (!pc) PetscFunctionReturn(PETSC_SUCCESS);
 #if defined(PETSC_HAVE_MUMPS)
@@ -323,7 +324,7 @@ PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
     MatSolverType type;
     PetscBool     mumps, redundant;
     PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCREDUNDANT, &redundant));
-    if (redundant) { /* every rank's own factor of the whole matrix: the same count on each */
+    if (redundant) {
       KSP rksp;
       PetscCall(PCRedundantGetKSP(pc, &rksp));
       PetscCall(KSPGetPC(rksp, &pc));
@@ -331,13 +332,19 @@ PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
     PetscCall(PCFactorGetMatrix(pc, &F));
     PetscCall(MatFactorGetSolverType(F, &type));
     PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
-    if (mumps) {
-      PetscInt v;
-      PetscCall(MatMumpsGetInfog(F, 28, &v));
-      *npiv = v;
-    }
+    if (mumps) PetscCall(MatMumpsGetInfog(F, i, value));
   }
 #endif
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Null pivots MUMPS found (INFOG(28)) in the factorisation a path used; 0
+ * when the path factored nothing with MUMPS. */
+PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv)
+{
+  PetscFunctionBeginUser;
+  PetscCall(BwSolverMumpsInfog(ksp, 28, npiv));
+  if (*npiv < 0) *npiv = 0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -24,6 +24,7 @@
 #include "util/compat.h"
 #include "util/factor.h"
 #include <string.h>
+#include <dlfcn.h>
 
 /* Below this many rows a non-symmetric S^ on one rank is factored by
  * PETSc's own LU (BwSolverSetFactor). */
@@ -174,9 +175,32 @@ PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, BwFactorKind kind, Mat A)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+#if defined(PETSC_HAVE_MUMPS)
+/* Whether the MUMPS that PETSc calls orders in parallel: its wrappers of
+ * PT-Scotch's and ParMETIS's parallel orderings (mumps_common's
+ * mumps_dgraphinit, mumps_parmetis) exist only where it was built with one
+ * of them. A MUMPS without either answers ICNTL(28) = 2 with an error at
+ * the analysis (INFOG(1) = -38), and Debian's 5.5 first writes to a
+ * negative Fortran unit if its messages are silenced (ICNTL(1) = -1): it
+ * cannot be asked by trying. */
+static PetscBool BwMumpsOrdersInParallel(void)
+{
+  static const char *const names[] = {"mumps_dgraphinit_", "mumps_dgraphinit", "MUMPS_DGRAPHINIT", "mumps_parmetis_", "mumps_parmetis", "MUMPS_PARMETIS"};
+  for (size_t i = 0; i < sizeof(names) / sizeof(names[0]); i++)
+    if (dlsym(RTLD_DEFAULT, names[i])) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+#endif
+
 /* After the options: with MUMPS, null-pivot detection, so that a singular
  * matrix is reported rather than factored into garbage (the options, read
- * when MUMPS analyses the matrix, still win: -..._mat_mumps_icntl_24 0). */
+ * when MUMPS analyses the matrix, still win: -..._mat_mumps_icntl_24 0).
+ * On several ranks, the analysis in parallel where this MUMPS can
+ * (ICNTL(28) = 2, its choice of PT-Scotch or ParMETIS): its sequential
+ * analysis gathers the whole graph of the matrix on rank 0 and orders it
+ * there, which no rank of a distributed run should hold (and PT-Scotch's
+ * nested dissection of a 3D wall's S^ had 42 % fewer entries in the factor
+ * than PORD's on 2 ranks: bench/results.md, 2026-11-28). */
 PetscErrorCode BwSolverFactorDefaults(PC pc)
 {
   PetscBool     factor;
@@ -195,6 +219,14 @@ PetscErrorCode BwSolverFactorDefaults(PC pc)
       PetscCall(PCFactorSetUpMatSolverType(pc));
       PetscCall(PCFactorGetMatrix(pc, &F));
       PetscCall(MatMumpsSetIcntl(F, 24, 1));
+      {
+        PetscMPIInt size;
+        PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pc), &size));
+        if (size > 1 && BwMumpsOrdersInParallel()) {
+          PetscCall(MatMumpsSetIcntl(F, 28, 2));
+          PetscCall(MatMumpsSetIcntl(F, 29, 0));
+        }
+      }
     }
   }
 #endif

@@ -365,6 +365,13 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
     PetscCall(KSPGetPC(path->ksp, &pc));
     PetscCall(PCGetFailedReason(pc, &pcr));
     if (pcr == PC_NOERROR) PetscCall(BwSolverNullPivots(path->ksp, &npiv));
+    if (pcr == PC_NOERROR && !s->reproducible) {
+      /* where MUMPS ordered what it factored (INFOG(32): 1 on rank 0, 2 in
+       * parallel), for /solver: the factors are gone by then */
+      PetscInt v;
+      PetscCall(BwSolverMumpsInfog(path->ksp, 32, &v));
+      if (v > 0) s->mumps_analysis = v;
+    }
     /* The condition of what was factored, while the factor is there: a few
      * solves with it, and the one number that says how far a small residual
      * can be from a small error. In auto, only where the refinement showed
@@ -668,6 +675,15 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
     PetscCall(BwReportInt(r, "schur_groups", groups));
     PetscCall(BwReportString(r, "schur_group_dofs", desc));
   }
+  {
+    /* where MUMPS ordered the matrix it factored on several ranks:
+     * "parallel", or "rank 0", which held the matrix's whole graph for it
+     * (a MUMPS built without PT-Scotch or ParMETIS, Debian's); "" on one
+     * rank, with solver.reproducible, or without a MUMPS factorisation */
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(s->comm, &size));
+    PetscCall(BwReportString(r, "factor_analysis", size > 1 && s->mumps_analysis == 2 ? "parallel" : size > 1 && s->mumps_analysis == 1 ? "rank 0" : ""));
+  }
   PetscCall(BwReportInt(r, "fallback", s->fallback));
   PetscCall(BwReportString(r, "fallback_reason", s->fallback_reason));
   PetscCall(BwReportInt(r, "iterations", s->iterations));
@@ -694,6 +710,12 @@ PetscErrorCode BwSolverView(BwSolver s, PetscViewer viewer)
     char     desc[128];
     PetscCall(BwMixedGetSchurGroups(s->mx, &groups, desc, sizeof(desc)));
     if (groups > 1) PetscCall(PetscViewerASCIIPrintf(viewer, "  S^ splits into %" PetscInt_FMT " independent groups of dofs (%s)\n", groups, desc));
+  }
+  {
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(s->comm, &size));
+    if (size > 1 && s->mumps_analysis == 1) PetscCall(PetscViewerASCIIPrintf(viewer, "  MUMPS ordered the factored matrix on rank 0, which held its whole graph (this MUMPS has neither PT-Scotch nor ParMETIS: docs/cluster.md)\n"));
+    else if (size > 1 && s->mumps_analysis == 2) PetscCall(PetscViewerASCIIPrintf(viewer, "  MUMPS ordered the factored matrix in parallel\n"));
   }
   PetscCall(PetscViewerASCIIPrintf(viewer, "  residual %.3e (equilibrium %.3e, compatibility %.3e; rtol %.1e)\n", (double)s->check.residual, (double)s->check.equilibrium, (double)s->check.compatibility, (double)s->rtol));
   if (s->forward_estimate >= 0 || s->condition_estimate > 0) {

@@ -40,6 +40,7 @@ struct _n_BwSolver {
   PetscInt     kaij_state; /* the operators' values state Kaij holds */
   PetscInt     values_seen, setups; /* operator values of the last solve; solves that set up a new factor or hierarchy */
   PetscBool    symmetric;  /* the operators stay symmetric (else LU and GMRES where Cholesky and CG) */
+  PetscInt     mumps_analysis; /* INFOG(32) of the last MUMPS factorisation: 1 sequential (on rank 0), 2 parallel; 0 none */
   PetscBool    reproducible; /* -solver_reproducible on several ranks: every factorisation redundant, one sequential factor per rank */
   PetscBool    diagnose;   /* a failed solve names a mechanism (an extra factorisation) */
   PetscBool    forward_check; /* a solve also meets solver.forward_rtol (two refinement steps at least) */
@@ -96,3 +97,5 @@ PetscErrorCode BwSolverForwardExtra(BwSolver s, PC fpc, Vec b, Vec x, PetscReal 
  * nothing (CG + GAMG). */
 PetscErrorCode BwSolverGetFactorPC(KSP ksp, PC *fpc, Mat *A);
 PetscErrorCode BwSolverNullPivots(KSP ksp, PetscInt *npiv);
+/* INFOG(i) of the MUMPS factor a path used; -1 where it used none */
+PetscErrorCode BwSolverMumpsInfog(KSP ksp, PetscInt i, PetscInt *value);

@@ -39,6 +39,15 @@
             displacements equal those of PETSc's default algorithm to 1e-8
             (the two products differ in their sums' order; CG is asked for
             a residual of 1e-10), both within 1e-8 of the direct path's
+  analysis  where MUMPS orders (analyses) S^ on several ranks, in /solver
+            factor_analysis: "" on 1 rank; on 2 ranks "rank 0" or
+            "parallel", as the MUMPS PETSc calls can (PT-Scotch or ParMETIS
+            built in: its mumps_dgraphinit or mumps_parmetis); given the
+            libraries of a MUMPS built with PT-Scotch (argument 2,
+            LD_PRELOAD: Debian's libmumps-ptscotch-5.5, found by CMake), 2
+            ranks order in parallel. The 3D wall of the bench at 24 x 24
+            units (S^ factored by MUMPS under auto): every answer's
+            displacements within 1e-10 of one rank's, accuracy_met
 """
 import os
 import sys
@@ -47,6 +56,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "paper"))
 from bwrun import Failure, expect, rel_err, run  # noqa: E402
 from check_paper import SCENE, run_case  # noqa: E402
+import blockwall  # noqa: E402
 
 FORCE_FAIL = ["-ksp_max_it", 1, "-schur_pc_type", "jacobi"]
 
@@ -179,10 +189,50 @@ def ptap():
           f"{e:.1e} from the default products, residual {lean['solver']['residual']:.1e}")
 
 
+def analysis():
+    from bwrun import ENV, EXE, MPIEXEC, call, read
+    import tempfile
+    scene = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "large_wall3d.yaml")
+    size = ["-geometry_running_bond_courses", 24, "-geometry_running_bond_units_per_course", 24,
+            "-output_stresses", "false", "-output_xdmf", "false"]
+    preload = sys.argv[2] if len(sys.argv) > 2 else ""
+    if preload:
+        # only over the same MUMPS: PETSc's own a libdmumps of the version
+        # the preloaded one has (Debian's petsc-dev: 5.5)
+        import re
+        import subprocess
+        linked = re.findall(r"libdmumps-([0-9.]+)\.so", subprocess.run(["ldd", EXE], capture_output=True, text=True).stdout)
+        version = re.findall(r"dmumps_ptscotch-([0-9.]+)\.so", preload)
+        if not linked or linked[:1] != version[:1]:
+            print(f"PETSc's MUMPS {linked or 'not a shared libdmumps'} is not the version of {preload}: not preloaded")
+            preload = ""
+
+    def solve_with(ranks, env):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "out.h5")
+            p = call(blockwall.command(scene, [*size, "-output_file", out], ranks, exe=EXE, mpiexec=MPIEXEC), env=env, what="blockwall")
+            expect(p.returncode == 0, f"blockwall failed ({p.returncode}): {p.stdout[-1500:]} {p.stderr[-1500:]}")
+            return read(out)
+
+    one = solve_with(1, ENV)
+    runs = [("2 ranks, PETSc's MUMPS", solve_with(2, ENV), ("rank 0", "parallel"))]
+    if preload:
+        runs.append(("2 ranks, MUMPS with PT-Scotch", solve_with(2, dict(ENV, LD_PRELOAD=preload)), ("parallel",)))
+    expect(one["solver"]["factor_analysis"] == "", f"1 rank: factor_analysis {one['solver']['factor_analysis']!r}, want ''")
+    for name, res, want in runs:
+        s = res["solver"]
+        expect(s["schur_solve"] in ("cholesky", "lu") and s["accuracy_met"] == 1 and s["fallback"] == 0, f"{name}: {s}")
+        expect(s["factor_analysis"] in want, f"{name}: factor_analysis {s['factor_analysis']!r}, want one of {want}")
+        e = rel_err(res["blocks/displacement"], one["blocks/displacement"])
+        expect(e < 1e-10, f"{name}: displacements {e:.2e} from 1 rank's")
+        print(f"{name}: MUMPS ordered S^ {'in parallel' if s['factor_analysis'] == 'parallel' else 'on rank 0'}; "
+              f"displacements {e:.1e} from 1 rank's")
+
+
 if __name__ == "__main__":
     try:
         {"gamg_fallback": gamg_fallback, "floor": floor, "warn": warn, "agree": agree, "fallback": fallback, "strict": strict, "wall": wall,
-         "ptap": ptap}[sys.argv[1]]()
+         "ptap": ptap, "analysis": analysis}[sys.argv[1]]()
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
