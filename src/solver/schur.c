@@ -233,6 +233,41 @@ PetscErrorCode BwSolverFactorDefaults(PC pc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* S^ of an assembly symmetric about its mid-plane splits into independent
+ * groups of dofs (u1 u2 w3 | u3 w1 w2, stiffness.c). PETSc hands MUMPS the
+ * block size of S^ (6) as a compression of its graph, one vertex per block
+ * (ICNTL(15) = -6), which joins the groups again: the ordering no longer
+ * sees them apart. The bench's 3D wall at 60 x 60 units on 2 ranks: 3.2e6
+ * entries in the factor and 7.8e8 flops, against 1.6e6 and 2.0e8
+ * uncompressed; at 300 x 300 the whole run 6.95 s against 10.14 s
+ * (bench/results.md, 2026-11-28). So uncompressed where S^ splits. PETSc
+ * takes ICNTL(15) from the block size at the analysis unless the option
+ * is given, so the default goes in as an option; one of the user's wins. */
+static PetscErrorCode BwSchurFactorUncompressed(BwSolver s, PC pc)
+{
+  PetscBool     factor, mumps, set;
+  MatSolverType type;
+  PetscInt      groups, v;
+  const char   *prefix;
+  char          name[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PCFactorGetMatSolverType(pc, &type));
+  PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
+  PetscCall(BwMixedGetSchurGroups(s->mx, &groups, NULL, 0));
+  if (!mumps || groups < 2) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PCGetOptionsPrefix(pc, &prefix));
+  PetscCall(PetscOptionsHasName(NULL, prefix, "-mat_mumps_icntl_15", &set));
+  if (set) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscSNPrintf(name, sizeof(name), "-%smat_mumps_icntl_15", prefix ? prefix : ""));
+  PetscCall(PetscOptionsSetValue(NULL, name, "0"));
+  /* read once here, so that a run that never factors does not report it unused */
+  PetscCall(PetscOptionsGetInt(NULL, prefix, "-mat_mumps_icntl_15", &v, NULL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
 {
   BwSchurPC  *ctx;
@@ -271,6 +306,7 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
   }
   PetscCall(KSPSetFromOptions(ctx->inner));
   PetscCall(BwSolverFactorDefaults(ipc));
+  PetscCall(BwSchurFactorUncompressed(s, ipc));
 
   PetscCall(KSPGetPC(outer, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
