@@ -198,9 +198,8 @@ static PetscBool BwMumpsOrdersInParallel(void)
  * On several ranks, the analysis in parallel where this MUMPS can
  * (ICNTL(28) = 2, its choice of PT-Scotch or ParMETIS): its sequential
  * analysis gathers the whole graph of the matrix on rank 0 and orders it
- * there, which no rank of a distributed run should hold (and PT-Scotch's
- * nested dissection of a 3D wall's S^ had 42 % fewer entries in the factor
- * than PORD's on 2 ranks: bench/results.md, 2026-11-28). */
+ * there, which no rank of a distributed run should hold (what it buys is
+ * that memory, not fill: bench/results.md, 2026-11-28). */
 PetscErrorCode BwSolverFactorDefaults(PC pc)
 {
   PetscBool     factor;
@@ -239,8 +238,8 @@ PetscErrorCode BwSolverFactorDefaults(PC pc)
  * (ICNTL(15) = -6), which joins the groups again: the ordering no longer
  * sees them apart. The bench's 3D wall at 60 x 60 units on 2 ranks: 3.2e6
  * entries in the factor and 7.8e8 flops, against 1.6e6 and 2.0e8
- * uncompressed; at 300 x 300 the whole run 6.95 s against 10.14 s
- * (bench/results.md, 2026-11-28). So uncompressed where S^ splits. PETSc
+ * uncompressed; at 300 x 300 the whole run 7.12 s against 8.34 s, medians
+ * of 3 (bench/results.md, 2026-11-28). So uncompressed where S^ splits. PETSc
  * takes ICNTL(15) from the block size at the analysis unless the option
  * is given, so the default goes in as an option; one of the user's wins. */
 static PetscErrorCode BwSchurFactorUncompressed(BwSolver s, PC pc)

@@ -3,6 +3,7 @@
  * (see solver.h for the structure of each path). */
 #include <petscksp.h>
 #include "solver/solver_impl.h"
+#include <string.h>
 #include "util/log.h"
 #include "util/compat.h"
 #include "util/factor.h"
@@ -660,6 +661,18 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Where MUMPS ordered the matrix it last factored on several ranks:
+ * "parallel", or "rank 0", which held the matrix's whole graph for it (a
+ * MUMPS built without PT-Scotch or ParMETIS, Debian's); "" on one rank,
+ * with solver.reproducible, or without a MUMPS factorisation. */
+static const char *BwSolverFactorAnalysis(BwSolver s)
+{
+  PetscMPIInt size;
+
+  if (MPI_Comm_size(s->comm, &size) != MPI_SUCCESS || size < 2) return "";
+  return s->mumps_analysis == 2 ? "parallel" : s->mumps_analysis == 1 ? "rank 0" : "";
+}
+
 PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
 {
   PetscFunctionBeginUser;
@@ -675,15 +688,7 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
     PetscCall(BwReportInt(r, "schur_groups", groups));
     PetscCall(BwReportString(r, "schur_group_dofs", desc));
   }
-  {
-    /* where MUMPS ordered the matrix it factored on several ranks:
-     * "parallel", or "rank 0", which held the matrix's whole graph for it
-     * (a MUMPS built without PT-Scotch or ParMETIS, Debian's); "" on one
-     * rank, with solver.reproducible, or without a MUMPS factorisation */
-    PetscMPIInt size;
-    PetscCallMPI(MPI_Comm_size(s->comm, &size));
-    PetscCall(BwReportString(r, "factor_analysis", size > 1 && s->mumps_analysis == 2 ? "parallel" : size > 1 && s->mumps_analysis == 1 ? "rank 0" : ""));
-  }
+  PetscCall(BwReportString(r, "factor_analysis", BwSolverFactorAnalysis(s)));
   PetscCall(BwReportInt(r, "fallback", s->fallback));
   PetscCall(BwReportString(r, "fallback_reason", s->fallback_reason));
   PetscCall(BwReportInt(r, "iterations", s->iterations));
@@ -712,10 +717,9 @@ PetscErrorCode BwSolverView(BwSolver s, PetscViewer viewer)
     if (groups > 1) PetscCall(PetscViewerASCIIPrintf(viewer, "  S^ splits into %" PetscInt_FMT " independent groups of dofs (%s)\n", groups, desc));
   }
   {
-    PetscMPIInt size;
-    PetscCallMPI(MPI_Comm_size(s->comm, &size));
-    if (size > 1 && s->mumps_analysis == 1) PetscCall(PetscViewerASCIIPrintf(viewer, "  MUMPS ordered the factored matrix on rank 0, which held its whole graph (this MUMPS has neither PT-Scotch nor ParMETIS: docs/cluster.md)\n"));
-    else if (size > 1 && s->mumps_analysis == 2) PetscCall(PetscViewerASCIIPrintf(viewer, "  MUMPS ordered the factored matrix in parallel\n"));
+    const char *where = BwSolverFactorAnalysis(s);
+    if (!strcmp(where, "rank 0")) PetscCall(PetscViewerASCIIPrintf(viewer, "  MUMPS ordered the factored matrix on rank 0, which held its whole graph (this MUMPS has neither PT-Scotch nor ParMETIS: docs/cluster.md)\n"));
+    else if (where[0]) PetscCall(PetscViewerASCIIPrintf(viewer, "  MUMPS ordered the factored matrix in parallel\n"));
   }
   PetscCall(PetscViewerASCIIPrintf(viewer, "  residual %.3e (equilibrium %.3e, compatibility %.3e; rtol %.1e)\n", (double)s->check.residual, (double)s->check.equilibrium, (double)s->check.compatibility, (double)s->rtol));
   if (s->forward_estimate >= 0 || s->condition_estimate > 0) {

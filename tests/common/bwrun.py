@@ -77,21 +77,23 @@ def call(cmd, timeout=None, env=None, cwd=None, what=None):
 FAILING_ENV = dict(ENV, OMPI_MCA_odls_base_sigkill_timeout="0")
 
 
-def run(scene, args=(), np_ranks=1, expect_ok=True, timeout=None):
-    """Run blockwall, watched; returns (returncode, stdout, stderr)."""
-    env = ENV if expect_ok else FAILING_ENV
+def run(scene, args=(), np_ranks=1, expect_ok=True, timeout=None, extra_env=None):
+    """Run blockwall, watched; returns (returncode, stdout, stderr).
+    extra_env: more environment variables for the run (e.g. LD_PRELOAD)."""
+    env = dict(ENV if expect_ok else FAILING_ENV, **(extra_env or {}))
     p = call(blockwall.command(scene, args, np_ranks, exe=EXE, mpiexec=MPIEXEC), timeout, env, what="blockwall")
     if expect_ok and p.returncode != 0:
         raise Failure(f"blockwall failed ({p.returncode}): {' '.join(p.cmd)}\n{p.stdout}\n{p.stderr}")
     return p.returncode, p.stdout, p.stderr
 
 
-def solve(scene, args=(), np_ranks=1):
-    """Run blockwall to a temporary file and return its datasets and attributes."""
+def solve(scene, args=(), np_ranks=1, extra_env=None, stdout=False):
+    """Run blockwall to a temporary file and return its datasets and
+    attributes (and its stdout, with stdout=True)."""
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "out.h5")
-        run(scene, [*args, "-output_file", out], np_ranks)
-        return read(out)
+        _, text, _ = run(scene, [*args, "-output_file", out], np_ranks, extra_env=extra_env)
+        return (read(out), text) if stdout else read(out)
 
 
 def read(path):

@@ -64,7 +64,6 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "common"))
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "paper"))
 from bwrun import Failure, expect, rel_err, run  # noqa: E402
 from check_paper import SCENE, run_case  # noqa: E402
-import blockwall  # noqa: E402
 
 FORCE_FAIL = ["-ksp_max_it", 1, "-schur_pc_type", "jacobi"]
 
@@ -178,14 +177,18 @@ def warn():
     print(f"warning recorded: {sv['warning']}")
 
 
+# the bench's 3D wall at 24 x 24 units (its S^ splits into two groups of
+# dofs), stresses and XDMF not written
+WALL3D = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "large_wall3d.yaml")
+WALL3D_24 = ["-geometry_running_bond_courses", 24, "-geometry_running_bond_units_per_course", 24,
+             "-output_stresses", "false", "-output_xdmf", "false"]
+
+
 def ptap():
     from bwrun import solve
-    scene = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "large_wall3d.yaml")
-    size = ["-geometry_running_bond_courses", 24, "-geometry_running_bond_units_per_course", 24,
-            "-output_stresses", "false", "-output_xdmf", "false"]
-    ref = solve(scene, [*size, "-solver_method", "direct"], np_ranks=2)
-    dflt = solve(scene, [*size, "-solver_schur", "gamg"], np_ranks=2)
-    lean = solve(scene, [*size, "-solver_schur", "gamg", "-matptap_via", "allatonce"], np_ranks=2)
+    ref = solve(WALL3D, [*WALL3D_24, "-solver_method", "direct"], np_ranks=2)
+    dflt = solve(WALL3D, [*WALL3D_24, "-solver_schur", "gamg"], np_ranks=2)
+    lean = solve(WALL3D, [*WALL3D_24, "-solver_schur", "gamg", "-matptap_via", "allatonce"], np_ranks=2)
     for name, res in (("default", dflt), ("allatonce", lean)):
         s = res["solver"]
         expect(s["accuracy_met"] == 1 and s["fallback"] == 0, f"{name}: {s}")
@@ -198,11 +201,7 @@ def ptap():
 
 
 def analysis():
-    from bwrun import ENV, EXE, MPIEXEC, call, read
-    import tempfile
-    scene = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "large_wall3d.yaml")
-    size = ["-geometry_running_bond_courses", 24, "-geometry_running_bond_units_per_course", 24,
-            "-output_stresses", "false", "-output_xdmf", "false"]
+    from bwrun import EXE, solve
     preload = sys.argv[2] if len(sys.argv) > 2 else ""
     if preload:
         # only over the same MUMPS: PETSc's own a libdmumps of the version
@@ -215,17 +214,10 @@ def analysis():
             print(f"PETSc's MUMPS {linked or 'not a shared libdmumps'} is not the version of {preload}: not preloaded")
             preload = ""
 
-    def solve_with(ranks, env):
-        with tempfile.TemporaryDirectory() as tmp:
-            out = os.path.join(tmp, "out.h5")
-            p = call(blockwall.command(scene, [*size, "-output_file", out], ranks, exe=EXE, mpiexec=MPIEXEC), env=env, what="blockwall")
-            expect(p.returncode == 0, f"blockwall failed ({p.returncode}): {p.stdout[-1500:]} {p.stderr[-1500:]}")
-            return read(out)
-
-    one = solve_with(1, ENV)
-    runs = [("2 ranks, PETSc's MUMPS", solve_with(2, ENV), ("rank 0", "parallel"))]
+    one = solve(WALL3D, WALL3D_24, 1)
+    runs = [("2 ranks, PETSc's MUMPS", solve(WALL3D, WALL3D_24, 2), ("rank 0", "parallel"))]
     if preload:
-        runs.append(("2 ranks, MUMPS with PT-Scotch", solve_with(2, dict(ENV, LD_PRELOAD=preload)), ("parallel",)))
+        runs.append(("2 ranks, MUMPS with PT-Scotch", solve(WALL3D, WALL3D_24, 2, extra_env={"LD_PRELOAD": preload}), ("parallel",)))
     expect(one["solver"]["factor_analysis"] == "", f"1 rank: factor_analysis {one['solver']['factor_analysis']!r}, want ''")
     for name, res, want in runs:
         s = res["solver"]
@@ -239,17 +231,10 @@ def analysis():
 
 def compression():
     import re
-    import tempfile
-    from bwrun import read, run
-    scene = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "large_wall3d.yaml")
-    size = ["-geometry_running_bond_courses", 24, "-geometry_running_bond_units_per_course", 24,
-            "-output_stresses", "false", "-output_xdmf", "false", "-schur_ksp_view", "::ascii_info_detail"]
+    from bwrun import solve
     got = {}
     for name, extra in (("uncompressed", []), ("compressed", ["-schur_mat_mumps_icntl_15", -6])):
-        with tempfile.TemporaryDirectory() as tmp:
-            out = os.path.join(tmp, "out.h5")
-            _, stdout, _ = run(scene, [*size, *extra, "-output_file", out], 2)
-            res = read(out)
+        res, stdout = solve(WALL3D, [*WALL3D_24, "-schur_ksp_view", "::ascii_info_detail", *extra], 2, stdout=True)
         icntl = re.findall(r"ICNTL\(15\) \(compression of the input matrix\): *(-?[0-9]+)", stdout)
         entries = re.findall(r"INFOG\(20\) \(estimated number of entries in the factors\): *([0-9]+)", stdout)
         expect(icntl and entries, f"{name}: no MUMPS factor of S^ in -schur_ksp_view's output")
