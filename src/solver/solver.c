@@ -21,6 +21,24 @@
 #define BW_SCHUR_GAMG_BLOCKS_ONE 50000
 #define BW_DIRECT_ROWS_3D        1000000
 
+/* A 3D S^ that splits into independent groups of dofs (an extruded wall
+ * in a linear analysis: u1 u2 w3 | u3 w1 w2) factors with far less fill,
+ * its graph ordered uncompressed (schur.c), and is factored at any size
+ * where it fits: bench/large_wall3d.yaml at 1e6 blocks on 2 ranks took
+ * 162 s with S^ factored against 1004 s with CG + GAMG (bench/results.md,
+ * 2026-11-28). Its memory, the whole run's summed peak per block on 2
+ * ranks (m = 8, m_b = 4, stresses not written): 19.6 KB at 9e4 blocks,
+ * 20.7 at 2.5e5, 21.4 at 4.9e5, 21.7 at 1e6 (CHOLMOD on 1 rank: 20.5 at
+ * 1e6); 8 ranks at 9e4 blocks held ~110 MB more per added rank. The
+ * estimate lies a little above each: 20 KB at 9e4 blocks, 0.6 KB more
+ * per doubling (the factor's nested-dissection fill), 150 MB per rank. */
+static PetscLogDouble BwSplitFactorBytesPerRank(PetscInt nblocks, PetscMPIInt size)
+{
+  PetscLogDouble kb = 20.0 + 0.6 * PetscMax(0.0, PetscLog2Real((PetscReal)nblocks / 9e4));
+
+  return (PetscLogDouble)nblocks * kb * 1024 / size + 150e6; /* KB of 1024 bytes, as bench/results.md counts them */
+}
+
 const char *const BwMethods[]     = {"auto", "fieldsplit", "direct", "condensed", "BwMethod", "BW_METHOD_", NULL};
 const char *const BwSchurSolves[] = {"auto", "cholesky", "gamg", "hypre", "BwSchurSolve", "BW_SCHUR_", NULL};
 
@@ -90,7 +108,8 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   PetscCall(BwSceneRequireMapping(scene, "-solver", "method, rtol, ..."));
   PetscCall(BwSceneEnum(scene, "-solver_method", "auto (fieldsplit, a factorisation on failure), fieldsplit, direct, or condensed (benchmark reference)", 4, BwMethods, &method, NULL));
   PetscCall(BwSceneReal(scene, "-solver_rtol", "Required relative true residual of the full mixed system (scaled)", &s->rtol, NULL));
-  PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 5e4 blocks, or 2e5 when the analysis solves more than once; gamg above), cholesky, gamg (CG + GAMG) or hypre (CG + BoomerAMG)", 4, BwSchurSolves, &schur, NULL));
+  PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 5e4 blocks, or 2e5 in 3D or when the analysis solves more than once; gamg above; in 3D where S^ splits into independent groups, cholesky at any size where its memory estimate fits solver.memory), cholesky, gamg (CG + GAMG) or hypre (CG + BoomerAMG)", 4, BwSchurSolves, &schur, NULL));
+  PetscCall(BwSceneReal(scene, "-solver_memory", "Memory the run may use [GB], summed over its ranks, for auto's choice of the Schur solve; 0: what the nodes have available when the solver is set up (MemAvailable, or less under a batch system's cgroup limit), shared among the ranks of each node", &s->memory, NULL));
   PetscCall(BwSceneReal(scene, "-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", &s->forward_rtol, &fset));
   PetscCall(BwSceneEnum(scene, "-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance), always, never", 3, when, &w, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_forward_bound", "The round-off part of the forward estimate, where the condition is estimated: auto (extra where D^ is held by its structure, else whole; in 3D above 1e6 rows of K~ cond eps), whole (LAPACK's bound, K~ assembled), schur (the same bound through S^'s factor, nothing of the stresses' size stored), extra (10 x the error that one residual in double-double shows)", 4, bounds, &fb, NULL));
@@ -103,6 +122,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   }
   if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
   if (!fset) s->forward_rtol = s->rtol;
+  if (!(s->memory >= 0)) PetscCall(BwSceneError(scene, "-solver_memory", "must be >= 0 GB (0: what the nodes have available), got %g", (double)s->memory));
   if (!(s->forward_rtol > 0 && s->forward_rtol <= 1)) PetscCall(BwSceneError(scene, "-solver_forward_rtol", "must be in (0, 1], got %g", (double)s->forward_rtol));
 #if !defined(PETSC_HAVE_HYPRE)
   if (schur == BW_SCHUR_HYPRE) PetscCall(BwSceneError(scene, "-solver_schur", "hypre: this PETSc has no hypre (it has %s)", BwFactorPackages()));
@@ -219,6 +239,29 @@ PetscErrorCode BwSolverSetExpectedSolves(BwSolver s, PetscInt n)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* auto on a split 3D S^: factored where the estimate of the run's memory
+ * fits what each rank can have (solver.memory, or its node's available
+ * memory and what the run holds already, shared among the node's ranks:
+ * read without the 6 GB the 1e6-block wall held by then, it chose GAMG,
+ * whose set-up the machine could not hold), else CG + GAMG, which holds
+ * less (15.8 KB per block on 1 rank at 1e6 blocks, against 20.5). The
+ * same choice on every rank. */
+static PetscErrorCode BwSolverChooseSplitFactor(BwSolver s, PetscInt nblocks)
+{
+  PetscMPIInt    size;
+  PetscLogDouble need, avail;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(s->comm, &size));
+  need = BwSplitFactorBytesPerRank(nblocks, size);
+  if (s->memory > 0) avail = s->memory * 1e9 / size;
+  else PetscCall(BwMemoryPerRank(s->comm, PETSC_TRUE, &avail, NULL)); /* the estimate is of the whole run, what it holds already included */
+  s->schur_iterative = need <= avail ? PETSC_FALSE : PETSC_TRUE;
+  PetscCall(PetscSNPrintf(s->schur_choice, sizeof(s->schur_choice), "%s (S^ splits; the run with S^ factored needs about %.3g GB, %s the %.3g GB %s)", s->schur_iterative ? "CG + GAMG" : "S^ factored", need * size / 1e9, s->schur_iterative ? "more than" : "within", avail * size / 1e9, s->memory > 0 ? "of solver.memory" : "available"));
+  PetscCall(PetscInfo(NULL, "auto's Schur solve: %s\n", s->schur_choice));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
 {
   BwMixedOwnership own;
@@ -250,7 +293,11 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
      * (1e5 blocks: 74 s against 3.5 s, with 12 s of factorisation), so 3D
      * factors S^ up to BW_SCHUR_GAMG_BLOCKS blocks for one solve too */
     const PetscInt limit = own.dim == 3 || s->expected_solves > 1 ? BW_SCHUR_GAMG_BLOCKS : BW_SCHUR_GAMG_BLOCKS_ONE;
-    s->schur_iterative   = !type || own.nblocks >= limit ? PETSC_TRUE : PETSC_FALSE;
+    PetscInt       groups;
+    s->schur_iterative = !type || own.nblocks >= limit ? PETSC_TRUE : PETSC_FALSE;
+    s->schur_choice[0] = 0;
+    PetscCall(BwMixedGetSchurGroups(mx, &groups, NULL, 0));
+    if (type && own.dim == 3 && groups > 1) PetscCall(BwSolverChooseSplitFactor(s, own.nblocks));
   }
   else s->schur_iterative = s->schur == BW_SCHUR_GAMG || s->schur == BW_SCHUR_HYPRE ? PETSC_TRUE : PETSC_FALSE;
   s->direct_fits = own.nblocks < BW_SCHUR_GAMG_BLOCKS || s->requested == BW_METHOD_DIRECT ? PETSC_TRUE : PETSC_FALSE;
@@ -715,6 +762,7 @@ PetscErrorCode BwSolverView(BwSolver s, PetscViewer viewer)
     char     desc[128];
     PetscCall(BwMixedGetSchurGroups(s->mx, &groups, desc, sizeof(desc)));
     if (groups > 1) PetscCall(PetscViewerASCIIPrintf(viewer, "  S^ splits into %" PetscInt_FMT " independent groups of dofs (%s)\n", groups, desc));
+    if (s->schur_choice[0]) PetscCall(PetscViewerASCIIPrintf(viewer, "  auto's Schur solve: %s\n", s->schur_choice));
   }
   {
     const char *where = BwSolverFactorAnalysis(s);

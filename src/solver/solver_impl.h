@@ -26,6 +26,8 @@ struct _n_BwSolver {
   PetscReal    rtol;
   BwSchurSolve schur;      /* as given */
   PetscBool    schur_iterative; /* the fieldsplit's Schur solve does not factor S^ */
+  PetscReal    memory;          /* -solver_memory [GB] the run may use summed over its ranks; 0: what the nodes have available */
+  char         schur_choice[256]; /* why auto chose the Schur solve it chose, where memory decided it; "" otherwise */
   BwStorage    storage;
   PetscInt     expected_solves; /* solves the analysis will make with one operator (BwSolverSetExpectedSolves) */
   PetscBool    direct_fits; /* small enough for a factorisation of the whole saddle matrix */

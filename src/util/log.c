@@ -84,41 +84,117 @@ PetscErrorCode BwMemoryUsage(MPI_Comm comm, PetscLogDouble *current, PetscLogDou
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* What the memory limits of a cgroup and of its parents leave [bytes]: a
+ * batch system's job and step limits sit above the task's cgroup, whose
+ * own limit is none; -1 where no limit can be read. */
+static PetscLogDouble BwCgroupLeft(const char root[], const char cgroup[], const char limit_file[], const char usage_file[])
+{
+  char           path[1200], *slash;
+  PetscLogDouble best = -1;
+
+  (void)snprintf(path, sizeof(path), "%s", cgroup);
+  for (;;) {
+    char               file[1400];
+    unsigned long long max, cur;
+    FILE              *m, *c;
+    (void)snprintf(file, sizeof(file), "%s%s/%s", root, strcmp(path, "/") ? path : "", limit_file);
+    if ((m = fopen(file, "r"))) {
+      /* "max" (v2) reads as no number: no limit here */
+      if (fscanf(m, "%llu", &max) == 1) {
+        (void)snprintf(file, sizeof(file), "%s%s/%s", root, strcmp(path, "/") ? path : "", usage_file);
+        if ((c = fopen(file, "r"))) {
+          if (fscanf(c, "%llu", &cur) == 1) {
+            PetscLogDouble left = cur < max ? (PetscLogDouble)(max - cur) : 0;
+            if (best < 0 || left < best) best = left;
+          }
+          fclose(c);
+        }
+      }
+      fclose(m);
+    }
+    if (!strcmp(path, "/") || !(slash = strrchr(path, '/'))) break;
+    if (slash == path) slash[1] = 0;
+    else *slash = 0;
+  }
+  return best;
+}
+
+/* The tightest cgroup limit on this process (v2, or v1's memory
+ * controller), less what its cgroup uses; -1 where there is none. */
+static PetscLogDouble BwCgroupAvailable(void)
+{
+  FILE          *f = fopen("/proc/self/cgroup", "r");
+  char           line[1024];
+  PetscLogDouble best = -1;
+
+  if (!f) return -1;
+  while (fgets(line, sizeof(line), f)) {
+    PetscLogDouble left = -1;
+    char          *colon;
+    line[strcspn(line, "\n")] = 0;
+    if (!strncmp(line, "0::", 3)) left = BwCgroupLeft("/sys/fs/cgroup", line + 3, "memory.max", "memory.current");
+    else if ((colon = strstr(line, ":memory:"))) left = BwCgroupLeft("/sys/fs/cgroup/memory", colon + 8, "memory.limit_in_bytes", "memory.usage_in_bytes");
+    if (left >= 0 && (best < 0 || left < best)) best = left;
+  }
+  fclose(f);
+  return best;
+}
+
 PetscErrorCode BwMemoryAvailable(PetscLogDouble *bytes)
 {
-  FILE *f = fopen("/proc/meminfo", "r");
-  char  line[256];
+  FILE          *f = fopen("/proc/meminfo", "r");
+  char           line[256];
+  PetscLogDouble cg = BwCgroupAvailable();
 
   PetscFunctionBeginUser;
   *bytes = (PetscLogDouble)sysconf(_SC_PHYS_PAGES) * (PetscLogDouble)sysconf(_SC_PAGESIZE);
-  if (!f) PetscFunctionReturn(PETSC_SUCCESS);
-  while (fgets(line, sizeof(line), f)) {
-    long long kb;
-    if (sscanf(line, "MemAvailable: %lld kB", &kb) == 1) {
-      *bytes = 1024.0 * (PetscLogDouble)kb;
-      break;
+  if (f) {
+    while (fgets(line, sizeof(line), f)) {
+      long long kb;
+      if (sscanf(line, "MemAvailable: %lld kB", &kb) == 1) {
+        *bytes = 1024.0 * (PetscLogDouble)kb;
+        break;
+      }
     }
+    fclose(f);
   }
-  fclose(f);
+  if (cg >= 0 && cg < *bytes) *bytes = cg;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode BwMemoryPerRank(MPI_Comm comm, PetscBool with_held, PetscLogDouble *bytes, PetscMPIInt *per_node)
+{
+  MPI_Comm       node;
+  PetscMPIInt    nlocal;
+  PetscLogDouble avail, held = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
+  PetscCallMPI(MPI_Comm_size(node, &nlocal));
+  PetscCall(BwMemoryAvailable(&avail));
+  if (with_held) {
+    /* what the run's ranks on this node already hold is theirs too */
+    PetscCall(PetscMemoryGetCurrentUsage(&held));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &held, 1, MPI_DOUBLE, MPI_SUM, node));
+  }
+  /* read once per node, so that the ranks of one node agree */
+  PetscCallMPI(MPI_Bcast(&avail, 1, MPI_DOUBLE, 0, node));
+  PetscCallMPI(MPI_Comm_free(&node));
+  /* the most crowded, smallest node decides, the same on every rank */
+  *bytes = (avail + held) / nlocal;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, bytes, 1, MPI_DOUBLE, MPI_MIN, comm));
+  if (per_node) PetscCallMPI(MPI_Allreduce(&nlocal, per_node, 1, MPI_INT, MPI_MAX, comm));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwMemoryRequire(MPI_Comm comm, PetscLogDouble bytes, const char what[])
 {
-  MPI_Comm       node;
   PetscMPIInt    nlocal;
-  PetscLogDouble avail, need;
+  PetscLogDouble avail;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
-  PetscCallMPI(MPI_Comm_size(node, &nlocal));
-  PetscCallMPI(MPI_Comm_free(&node));
-  PetscCall(BwMemoryAvailable(&avail));
-  /* the smallest node and the most crowded decide, the same on every rank */
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &avail, 1, MPI_DOUBLE, MPI_MIN, comm));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nlocal, 1, MPI_INT, MPI_MAX, comm));
-  need = bytes * nlocal;
-  PetscCheck(need <= avail, comm, PETSC_ERR_USER_INPUT, "%s needs about %.3g GB of memory (%.3g GB on each of the %d ranks of a node), more than the %.3g GB this machine has available", what, need / 1e9, bytes / 1e9, nlocal, avail / 1e9);
+  PetscCall(BwMemoryPerRank(comm, PETSC_FALSE, &avail, &nlocal));
+  PetscCheck(bytes <= avail, comm, PETSC_ERR_USER_INPUT, "%s needs about %.3g GB of memory (%.3g GB on each of the %d ranks of a node), more than the %.3g GB this machine has available", what, bytes * nlocal / 1e9, bytes / 1e9, nlocal, avail * nlocal / 1e9);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

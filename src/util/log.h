@@ -27,8 +27,15 @@ PetscErrorCode BwLogTotal(BwLog *log, PetscLogDouble *total);
 /* Resident memory summed over ranks [bytes]: now and the peak so far. */
 PetscErrorCode BwMemoryUsage(MPI_Comm comm, PetscLogDouble *current, PetscLogDouble *peak);
 /* Memory this machine can give now [bytes]: MemAvailable of /proc/meminfo
- * (physical memory where that is missing). */
+ * (physical memory where that is missing), or less where the process's
+ * cgroup (a batch system's job) has less left under its limit. */
 PetscErrorCode BwMemoryAvailable(PetscLogDouble *bytes);
+/* The memory each rank can count on [bytes]: its node's available memory
+ * (with_held: plus what the run's ranks on the node hold now, for an
+ * estimate of the whole run's peak) shared among the ranks on the node,
+ * the smallest share over all nodes; per_node (may be NULL): the most
+ * ranks on one node. Collective. */
+PetscErrorCode BwMemoryPerRank(MPI_Comm comm, PetscBool with_held, PetscLogDouble *bytes, PetscMPIInt *per_node);
 /* Refuses, before allocating, `bytes` on each rank when the ranks sharing a
  * node cannot have that much together: one error line saying what was asked
  * for (`what`), what it needs and what the node has. Collective. */

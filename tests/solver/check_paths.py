@@ -56,6 +56,14 @@
             default, given as -schur_mat_mumps_icntl_15 -6: the user's
             option wins), 0.5 x when the groups are factored apart; the two
             answers within 1e-10 of each other
+  memory    auto's Schur solve on a split 3D S^ is chosen by the run's
+            memory estimate: the same wall on 2 ranks factors S^ when the
+            estimate fits (the summary says so), takes CG + GAMG when
+            solver.memory (GB, summed over the ranks) is below it, its
+            answer within 1e-8 of the factored one (CG is asked for a
+            residual of 1e-10); a 2D wall (S^ does not split) factors S^
+            whatever solver.memory says; solver.memory < 0 is an error
+            naming the key, with no file written
 """
 import os
 import sys
@@ -180,6 +188,7 @@ def warn():
 # the bench's 3D wall at 24 x 24 units (its S^ splits into two groups of
 # dofs), stresses and XDMF not written
 WALL3D = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "large_wall3d.yaml")
+SCENE_WALL2D = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
 WALL3D_24 = ["-geometry_running_bond_courses", 24, "-geometry_running_bond_units_per_course", 24,
              "-output_stresses", "false", "-output_xdmf", "false"]
 
@@ -249,10 +258,35 @@ def compression():
           f"{got['compressed'][1]} compressed by blocks of 6 ({ratio:.2f}); displacements {e:.1e} apart")
 
 
+def memory():
+    import re
+    from bwrun import solve
+    fac, out_fac = solve(WALL3D, WALL3D_24, 2, stdout=True)
+    low, out_low = solve(WALL3D, [*WALL3D_24, "-solver_memory", 0.05], 2, stdout=True)
+    for name, res, out, want in (("default", fac, out_fac, "cholesky"), ("solver.memory 0.05", low, out_low, "gamg")):
+        s = res["solver"]
+        expect(s["schur_groups"] == 2, f"{name}: S^ in {s['schur_groups']} groups, want 2")
+        expect(s["schur_solve"] == want and s["fallback"] == 0 and s["accuracy_met"] == 1, f"{name}: {s}")
+        line = re.findall(r"auto's Schur solve: (.*)", out)
+        expect(line and line[0].startswith("S^ factored" if want == "cholesky" else "CG + GAMG"), f"{name}: summary {line}")
+        print(f"{name}: {s['schur_solve']}: {line[0]}")
+    e = rel_err(low["blocks/displacement"], fac["blocks/displacement"])
+    expect(e < 1e-8, f"CG + GAMG vs the factored S^ {e:.2e}")
+    two = solve(SCENE_WALL2D, ["-solver_memory", 1e-6, "-output_stresses", "false", "-output_xdmf", "false"], 1)
+    expect(two["solver"]["schur_solve"] == "cholesky", f"2D wall, solver.memory 1e-6: {two['solver']['schur_solve']}, want cholesky")
+    out = "/tmp/bw_memory_never.h5"
+    if os.path.exists(out):
+        os.remove(out)
+    code, _, err = run(WALL3D, [*WALL3D_24, "-solver_memory", -1, "-output_file", out], expect_ok=False)
+    expect(code != 0 and "solver_memory" in err and len(err.strip().splitlines()) == 1, f"solver.memory -1: exit {code}, {err!r}")
+    expect(not os.path.exists(out), "output written after bad input")
+    print(f"displacements of CG + GAMG {e:.1e} from the factored S^'s; 2D wall factored; {err.strip()}")
+
+
 if __name__ == "__main__":
     try:
         {"gamg_fallback": gamg_fallback, "floor": floor, "warn": warn, "agree": agree, "fallback": fallback, "strict": strict, "wall": wall,
-         "ptap": ptap, "analysis": analysis, "compression": compression}[sys.argv[1]]()
+         "ptap": ptap, "analysis": analysis, "compression": compression, "memory": memory}[sys.argv[1]]()
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
