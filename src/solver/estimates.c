@@ -61,16 +61,6 @@ static PetscErrorCode BwConvergedCtxDestroy(BW_CTX_DESTROY_ARG arg)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The refinement's preconditioner applies a factor (S^'s or K~'s). */
-static PetscBool BwSolverFactored(KSP ksp)
-{
-  PC  fpc = NULL;
-  Mat A;
-
-  if (BwSolverGetFactorPC(ksp, &fpc, &A)) return PETSC_FALSE;
-  return fpc ? PETSC_TRUE : PETSC_FALSE;
-}
-
 /* The residual test of PETSc (rtol on the true residual), and then the
  * forward estimate must meet solver.forward_rtol: a step is added while it
  * does not, up to the KSP's iteration limit. */
@@ -193,8 +183,16 @@ static PetscErrorCode BwSolverConverged(KSP ksp, PetscInt it, PetscReal rnorm, K
    * where it used to run to its limit of five for nothing (at 1e6 blocks,
    * two solves with an 8 GB factor). The round-off bound of the factor is
    * still added (solver.c). */
-  if (s->forward_check) floor = (it >= 5 || (it >= 3 && s->residual_floor > 0 && BwSolverFactored(ksp))) && s->forward_estimate <= s->forward_rtol;
-  else floor = it >= 2 && rnorm <= atol / PetscSqrtReal(s->rtol);
+  if (s->forward_check) {
+    PetscBool factored = PETSC_FALSE;
+    if (it >= 3 && it < 5 && s->residual_floor > 0) {
+      PC  fpc;
+      Mat A;
+      PetscCall(BwSolverGetFactorPC(ksp, &fpc, &A));
+      factored = fpc ? PETSC_TRUE : PETSC_FALSE;
+    }
+    floor = (it >= 5 || factored) && s->forward_estimate <= s->forward_rtol;
+  } else floor = it >= 2 && rnorm <= atol / PetscSqrtReal(s->rtol);
   if (*reason == KSP_CONVERGED_ITERATING && floor && it < maxit && s->fw_rprev > 0 && rnorm > 0.5 * s->fw_rprev) {
     PetscCall(PetscInfo(ksp, "step %" PetscInt_FMT ": residual %.3e after %.3e, %s: the round-off floor\n", it, (double)rnorm, (double)s->fw_rprev, s->forward_check ? "displacements within forward_rtol" : "a Newton correction within sqrt(rtol)"));
     s->floor_stall = PETSC_TRUE;

@@ -25,8 +25,8 @@
  * in a linear analysis: u1 u2 w3 | u3 w1 w2) factors with far less fill,
  * its graph ordered uncompressed (schur.c), and is factored at any size
  * where it fits: bench/large_wall3d.yaml at 1e6 blocks on 2 ranks took
- * 162 s with S^ factored against 1004 s with CG + GAMG (bench/results.md,
- * 2026-11-28). Its memory, the whole run's summed peak per block on 2
+ * 107 s with S^ factored against 1004 s with CG + GAMG (bench/results.md,
+ * 2026-11-27 and 2026-11-28). Its memory, the whole run's summed peak per block on 2
  * ranks (m = 8, m_b = 4, stresses not written): 19.6 KB at 9e4 blocks,
  * 20.7 at 2.5e5, 21.4 at 4.9e5, 21.7 at 1e6 (CHOLMOD on 1 rank: 20.5 at
  * 1e6); 8 ranks at 9e4 blocks held ~110 MB more per added rank. The

@@ -94,14 +94,15 @@ static PetscLogDouble BwCgroupLeft(const char root[], const char cgroup[], const
 
   (void)snprintf(path, sizeof(path), "%s", cgroup);
   for (;;) {
-    char               file[1400];
+    char               dir[1300], file[1400];
     unsigned long long max, cur;
     FILE              *m, *c;
-    (void)snprintf(file, sizeof(file), "%s%s/%s", root, strcmp(path, "/") ? path : "", limit_file);
+    (void)snprintf(dir, sizeof(dir), "%s%s", root, strcmp(path, "/") ? path : "");
+    (void)snprintf(file, sizeof(file), "%s/%s", dir, limit_file);
     if ((m = fopen(file, "r"))) {
       /* "max" (v2) reads as no number: no limit here */
       if (fscanf(m, "%llu", &max) == 1) {
-        (void)snprintf(file, sizeof(file), "%s%s/%s", root, strcmp(path, "/") ? path : "", usage_file);
+        (void)snprintf(file, sizeof(file), "%s/%s", dir, usage_file);
         if ((c = fopen(file, "r"))) {
           if (fscanf(c, "%llu", &cur) == 1) {
             PetscLogDouble left = cur < max ? (PetscLogDouble)(max - cur) : 0;
@@ -165,19 +166,21 @@ PetscErrorCode BwMemoryAvailable(PetscLogDouble *bytes)
 PetscErrorCode BwMemoryPerRank(MPI_Comm comm, PetscBool with_held, PetscLogDouble *bytes, PetscMPIInt *per_node)
 {
   MPI_Comm       node;
-  PetscMPIInt    nlocal;
-  PetscLogDouble avail, held = 0;
+  PetscMPIInt    nlocal, local_rank;
+  PetscLogDouble avail = 0, held = 0;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
   PetscCallMPI(MPI_Comm_size(node, &nlocal));
-  PetscCall(BwMemoryAvailable(&avail));
+  PetscCallMPI(MPI_Comm_rank(node, &local_rank));
+  /* read once per node (below: given to the node's other ranks), so that
+   * the ranks of one node agree */
+  if (!local_rank) PetscCall(BwMemoryAvailable(&avail));
   if (with_held) {
     /* what the run's ranks on this node already hold is theirs too */
     PetscCall(PetscMemoryGetCurrentUsage(&held));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &held, 1, MPI_DOUBLE, MPI_SUM, node));
   }
-  /* read once per node, so that the ranks of one node agree */
   PetscCallMPI(MPI_Bcast(&avail, 1, MPI_DOUBLE, 0, node));
   PetscCallMPI(MPI_Comm_free(&node));
   /* the most crowded, smallest node decides, the same on every rank */

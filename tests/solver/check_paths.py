@@ -74,6 +74,8 @@ from bwrun import Failure, expect, rel_err, run  # noqa: E402
 from check_paper import SCENE, run_case  # noqa: E402
 
 FORCE_FAIL = ["-ksp_max_it", 1, "-schur_pc_type", "jacobi"]
+# the demo shear wall (2D, 92 blocks)
+DEMO = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
 
 
 def agree():
@@ -114,7 +116,7 @@ def strict():
 
 def wall():
     from bwrun import solve
-    scene = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
+    scene = DEMO
     ref = solve(scene, ["-solver_method", "fieldsplit"])
     variants = {"aij storage": (["-solver_storage", "aij"], 1e-10), "nest storage": (["-solver_storage", "nest"], 1e-10), "direct": (["-solver_method", "direct"], 1e-10),
                 "condensed": (["-solver_method", "condensed"], 1e-10), "gamg": (["-solver_schur", "gamg"], 1e-8)}
@@ -131,7 +133,7 @@ def wall():
 def gamg_fallback():
     # on two blocks GAMG is a direct solve; the demo wall needs iterations
     from bwrun import solve
-    scene = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
+    scene = DEMO
     ref = solve(scene, ["-solver_method", "direct"])
     res = solve(scene, ["-solver_schur", "gamg", "-ksp_max_it", 1])
     s = res["solver"]
@@ -144,7 +146,7 @@ def gamg_fallback():
 
 def floor():
     from bwrun import solve
-    scene = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
+    scene = DEMO
     ref = solve(scene, ["-solver_method", "direct"])
     opts = ["-solver_schur", "gamg", "-solver_rtol", "1e-16", "-solver_forward_rtol", "1e-8"]
     res = solve(scene, opts)
@@ -170,7 +172,7 @@ def warn():
     true residual near 1e-14 (on the paper's two blocks the Schur solve is
     exact to the last bit: a residual of 0 meets any rtol)."""
     from bwrun import solve
-    wall = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
+    wall = DEMO
     ref = solve(wall)
     res = solve(wall, ["-solver_rtol", "1e-18"])
     sv = res["solver"]
@@ -188,7 +190,6 @@ def warn():
 # the bench's 3D wall at 24 x 24 units (its S^ splits into two groups of
 # dofs), stresses and XDMF not written
 WALL3D = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "large_wall3d.yaml")
-SCENE_WALL2D = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "demo.yaml")
 WALL3D_24 = ["-geometry_running_bond_courses", 24, "-geometry_running_bond_units_per_course", 24,
              "-output_stresses", "false", "-output_xdmf", "false"]
 
@@ -272,7 +273,7 @@ def memory():
         print(f"{name}: {s['schur_solve']}: {line[0]}")
     e = rel_err(low["blocks/displacement"], fac["blocks/displacement"])
     expect(e < 1e-8, f"CG + GAMG vs the factored S^ {e:.2e}")
-    two = solve(SCENE_WALL2D, ["-solver_memory", 1e-6, "-output_stresses", "false", "-output_xdmf", "false"], 1)
+    two = solve(DEMO, ["-solver_memory", 1e-6, "-output_stresses", "false", "-output_xdmf", "false"], 1)
     expect(two["solver"]["schur_solve"] == "cholesky", f"2D wall, solver.memory 1e-6: {two['solver']['schur_solve']}, want cholesky")
     out = "/tmp/bw_memory_never.h5"
     if os.path.exists(out):
