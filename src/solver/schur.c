@@ -267,6 +267,40 @@ static PetscErrorCode BwSchurFactorUncompressed(BwSolver s, PC pc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* S^ factored by MUMPS in block low-rank form (solver.low_rank): the
+ * fronts' off-diagonal blocks compressed to CNTL(7) of their norm, which
+ * the refinement on the true S~ takes as its preconditioner's error. Before
+ * the options, MUMPS chosen where one rank would take CHOLMOD; after them
+ * (the factor's own options, read at the analysis, still win:
+ * -schur_mat_mumps_cntl_7 1e-10) the two controls set. */
+static PetscErrorCode BwSchurFactorLowRank(PC pc, PetscBool options_read)
+{
+#if defined(PETSC_HAVE_MUMPS)
+  MatSolverType type;
+  PetscBool     mumps;
+
+  PetscFunctionBeginUser;
+  if (!options_read) {
+    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  PetscCall(PCFactorGetMatSolverType(pc, &type));
+  PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
+  if (mumps) {
+    Mat F;
+    PetscCall(PCFactorSetUpMatSolverType(pc));
+    PetscCall(PCFactorGetMatrix(pc, &F));
+    PetscCall(MatMumpsSetIcntl(F, 35, 2));
+    PetscCall(MatMumpsSetCntl(F, 7, BW_LOW_RANK_TOL));
+  }
+#else
+  PetscFunctionBeginUser;
+  (void)pc;
+  (void)options_read;
+#endif
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
 {
   BwSchurPC  *ctx;
@@ -290,6 +324,7 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
   if (!iterative) {
     PetscCall(KSPSetType(ctx->inner, KSPPREONLY));
     PetscCall(BwSolverSetFactor(s, ipc, s->symmetric ? BW_FACTOR_CHOLESKY : BW_FACTOR_LU, S));
+    if (!factor && s->low_rank) PetscCall(BwSchurFactorLowRank(ipc, PETSC_FALSE));
   } else if (s->schur == BW_SCHUR_HYPRE) {
     PetscCall(KSPSetType(ctx->inner, s->symmetric ? KSPCG : KSPGMRES));
     PetscCall(PCSetType(ipc, PCHYPRE));
@@ -306,6 +341,7 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
   PetscCall(KSPSetFromOptions(ctx->inner));
   PetscCall(BwSolverFactorDefaults(ipc));
   PetscCall(BwSchurFactorUncompressed(s, ipc));
+  if (!iterative && !factor && s->low_rank) PetscCall(BwSchurFactorLowRank(ipc, PETSC_TRUE));
 
   PetscCall(KSPGetPC(outer, &pc));
   PetscCall(PCSetType(pc, PCSHELL));

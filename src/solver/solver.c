@@ -21,6 +21,19 @@
 #define BW_SCHUR_GAMG_BLOCKS_ONE 50000
 #define BW_DIRECT_ROWS_3D        1000000
 
+/* MUMPS's block low-rank (BLR) factor of a split 3D S^ in a linear
+ * analysis, from this many rows of S^: its fronts then reach the sizes BLR
+ * compresses (none below ~300 x 300 units of bench/large_wall3d.yaml, 5.4e5
+ * rows). The whole run on 2 ranks at BW_LOW_RANK_TOL, stresses not
+ * written (bench/results.md, 2026-11-29): 9e4 blocks 20.3 KB per block
+ * against 21.1 and 1.5 s slower; 2.5e5 blocks 19.7 against 21.2 KB in the
+ * same time; 1e6 blocks 19.0 against 21.7 KB, 107 s against 118 s
+ * (medians of 3, 105-113 against 100-121). The
+ * factor is the preconditioner of the refinement on the true S~, which
+ * took the same three steps to the same floor; at 1e-8 it took five and
+ * did not get there. */
+#define BW_LOW_RANK_ROWS         1000000
+
 /* A 3D S^ that splits into independent groups of dofs (an extruded wall
  * in a linear analysis: u1 u2 w3 | u3 w1 w2) factors with far less fill,
  * its graph ordered uncompressed (schur.c), and is factored at any size
@@ -59,6 +72,7 @@ PetscErrorCode BwSolverCreate(MPI_Comm comm, BwSolver *solver)
   s->forward_rtol       = -1; /* = rtol unless set */
   s->forward_estimate   = -1;
   s->condition_estimate = -1;
+  s->low_rank_ratio     = -1;
   s->fieldsplit.name    = "fieldsplit";
   s->fieldsplit.method  = BW_METHOD_FIELDSPLIT;
   s->cholesky.name      = "fieldsplit with S^ factored";
@@ -99,7 +113,7 @@ PetscErrorCode BwSolverDestroy(BwSolver *solver)
 
 PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
 {
-  PetscInt                 method = s->requested, schur = s->schur, storage = s->storage, w = s->condition_when, fb = s->forward_bound;
+  PetscInt                 method = s->requested, schur = s->schur, storage = s->storage, w = s->condition_when, fb = s->forward_bound, lr = s->low_rank_when;
   PetscBool                fset;
   static const char *const when[] = {"auto", "always", "never"}, *bounds[] = {"auto", "whole", "schur", "extra"};
 
@@ -110,6 +124,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   PetscCall(BwSceneReal(scene, "-solver_rtol", "Required relative true residual of the full mixed system (scaled)", &s->rtol, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 5e4 blocks, or 2e5 in 3D or when the analysis solves more than once; gamg above; in 3D where S^ splits into independent groups, cholesky at any size where its memory estimate fits solver.memory), cholesky, gamg (CG + GAMG) or hypre (CG + BoomerAMG)", 4, BwSchurSolves, &schur, NULL));
   PetscCall(BwSceneReal(scene, "-solver_memory", "Memory the run may use [GB], summed over its ranks, for auto's choice of the Schur solve; 0: what the nodes have available when the solver is set up (MemAvailable, or less under a batch system's cgroup limit), shared among the ranks of each node", &s->memory, NULL));
+  PetscCall(BwSceneEnum(scene, "-solver_low_rank", "S^ factored by MUMPS in block low-rank form (BLR, CNTL(7) = 1e-12; the refinement on the true S~ removes what it drops): auto (a split 3D S^ of 1e6 rows or more in a linear analysis, where it holds less in the same time), always (MUMPS on one rank too), never", 3, when, &lr, NULL));
   PetscCall(BwSceneReal(scene, "-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", &s->forward_rtol, &fset));
   PetscCall(BwSceneEnum(scene, "-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance, unless it stopped at the named floor of rounding the displacements), always, never", 3, when, &w, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_forward_bound", "The round-off part of the forward estimate, where the condition is estimated: auto (extra where D^ is held by its structure, else whole; in 3D above 1e6 rows of K~ cond eps), whole (LAPACK's bound, K~ assembled), schur (the same bound through S^'s factor, nothing of the stresses' size stored), extra (10 x the error that one residual in double-double shows)", 4, bounds, &fb, NULL));
@@ -123,6 +138,10 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   if (!(s->rtol > 0 && s->rtol < 1)) PetscCall(BwSceneError(scene, "-solver_rtol", "must be in (0, 1), got %g", (double)s->rtol));
   if (!fset) s->forward_rtol = s->rtol;
   if (!(s->memory >= 0)) PetscCall(BwSceneError(scene, "-solver_memory", "must be >= 0 GB (0: what the nodes have available), got %g", (double)s->memory));
+#if !defined(PETSC_HAVE_MUMPS)
+  if (lr == 1) PetscCall(BwSceneError(scene, "-solver_low_rank", "always: this PETSc has no MUMPS (it has %s)", BwFactorPackages()));
+#endif
+  if (lr == 1 && s->reproducible) PetscCall(BwSceneError(scene, "-solver_low_rank", "always: not with solver.reproducible, whose factors are sequential ones of the whole matrix on every rank"));
   if (!(s->forward_rtol > 0 && s->forward_rtol <= 1)) PetscCall(BwSceneError(scene, "-solver_forward_rtol", "must be in (0, 1], got %g", (double)s->forward_rtol));
 #if !defined(PETSC_HAVE_HYPRE)
   if (schur == BW_SCHUR_HYPRE) PetscCall(BwSceneError(scene, "-solver_schur", "hypre: this PETSc has no hypre (it has %s)", BwFactorPackages()));
@@ -131,6 +150,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   s->schur          = (BwSchurSolve)schur;
   s->storage        = (BwStorage)storage;
   s->condition_when = w;
+  s->low_rank_when  = lr;
   s->forward_bound  = (BwForwardBound)fb;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -308,6 +328,15 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
    * path (and the factor's round-off bound, which assembles the same
    * matrix) is kept to saddle matrices below 1e6 rows. */
   if (own.dim == 3 && own.nr_global + own.nq_global >= BW_DIRECT_ROWS_3D && s->requested != BW_METHOD_DIRECT) s->direct_fits = PETSC_FALSE;
+  s->low_rank = PETSC_FALSE;
+#if defined(PETSC_HAVE_MUMPS)
+  if (!s->schur_iterative && !s->reproducible) {
+    PetscInt groups;
+    PetscCall(BwMixedGetSchurGroups(mx, &groups, NULL, 0));
+    if (s->low_rank_when == 1) s->low_rank = PETSC_TRUE;
+    else if (s->low_rank_when == 0 && own.dim == 3 && groups > 1 && s->expected_solves == 1 && own.nq_global >= BW_LOW_RANK_ROWS) s->low_rank = PETSC_TRUE;
+  }
+#endif
   if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_FIELDSPLIT) PetscCall(BwSolverCreateFieldsplit(s, &s->fieldsplit, NULL, PETSC_FALSE));
   PetscCall(BwSolverForwardSetUp(s));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -419,6 +448,17 @@ static PetscErrorCode BwSolverRun(BwSolver s, BwPath *path, Vec b, Vec x, BwLog 
       PetscInt v;
       PetscCall(BwSolverMumpsInfog(path->ksp, 32, &v));
       if (v > 0) s->mumps_analysis = v;
+      if (s->low_rank && path == &s->fieldsplit) {
+        /* the factor's entries with and without its compression; a
+         * negative INFOG counts millions */
+        PetscInt  full, blr;
+        PetscReal nf, nb;
+        PetscCall(BwSolverMumpsInfog(path->ksp, 29, &full));
+        PetscCall(BwSolverMumpsInfog(path->ksp, 35, &blr));
+        nf = full < 0 ? -1e6 * (PetscReal)full : (PetscReal)full;
+        nb = blr < 0 ? -1e6 * (PetscReal)blr : (PetscReal)blr;
+        if (nf > 0 && nb > 0) s->low_rank_ratio = nb / nf;
+      }
     }
     /* The condition of what was factored, while the factor is there: a few
      * solves with it, and the one number that says how far a small residual
@@ -596,6 +636,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
   s->warning[0]         = 0;
   s->accuracy_met       = PETSC_TRUE;
   s->residual_floor     = -1;
+  s->low_rank_ratio     = -1;
   if (s->trivial) {
     /* K = -I (stress rows only): x = -b, exactly; the displacements are
      * the prescribed ones, exactly too */
@@ -629,6 +670,24 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
         PetscCall(PetscStrncpy(s->fallback_reason, reason, sizeof(s->fallback_reason)));
       }
     }
+  }
+  /* A low-rank factor that did not get there: the same path with S^'s
+   * factor in full rank, the low-rank one freed first (at 1e6 blocks the
+   * two would not fit together); the next solves keep the full rank. At
+   * the floor of rounding q a full-rank factor stops at the same place. */
+  if (!ok && s->requested == BW_METHOD_AUTO && s->low_rank && !s->floor_stall) {
+    char why[512];
+    PetscCall(BwSolverSaveBest(x, &best));
+    PetscCall(KSPDestroy(&s->fieldsplit.ksp));
+    s->low_rank       = PETSC_FALSE;
+    s->low_rank_ratio = -1;
+    PetscCall(BwSolverCreateFieldsplit(s, &s->fieldsplit, NULL, PETSC_FALSE));
+    s->fieldsplit.ran_once = PETSC_FALSE;
+    s->used                = BW_METHOD_FIELDSPLIT;
+    PetscCall(PetscStrlcat(s->fallback_reason, " with S^'s factor in block low-rank form; S^ factored again in full rank", sizeof(s->fallback_reason)));
+    PetscCall(BwSolverRun(s, &s->fieldsplit, b, x, log, &ok, &usable, why, sizeof(why)));
+    if (!ok && usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_FIELDSPLIT, x, &best));
+    if (!ok) PetscCall(PetscStrncpy(reason, why, sizeof(reason)));
   }
   /* With an iterative Schur solve first, auto falls back to the same
    * fieldsplit with S^ factored before the direct path, which above
@@ -748,6 +807,7 @@ PetscErrorCode BwSolverReport(BwSolver s, BwReport r)
     PetscCall(BwReportString(r, "schur_group_dofs", desc));
   }
   PetscCall(BwReportString(r, "factor_analysis", BwSolverFactorAnalysis(s)));
+  PetscCall(BwReportReal(r, "factor_low_rank_ratio", s->low_rank_ratio));
   PetscCall(BwReportInt(r, "fallback", s->fallback));
   PetscCall(BwReportString(r, "fallback_reason", s->fallback_reason));
   PetscCall(BwReportInt(r, "iterations", s->iterations));
@@ -781,6 +841,7 @@ PetscErrorCode BwSolverView(BwSolver s, PetscViewer viewer)
     if (!strcmp(where, "rank 0")) PetscCall(PetscViewerASCIIPrintf(viewer, "  MUMPS ordered the factored matrix on rank 0, which held its whole graph (this MUMPS has neither PT-Scotch nor ParMETIS: docs/cluster.md)\n"));
     else if (where[0]) PetscCall(PetscViewerASCIIPrintf(viewer, "  MUMPS ordered the factored matrix in parallel\n"));
   }
+  if (s->low_rank_ratio > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "  S^'s factor in block low-rank form (MUMPS BLR): %.0f %% of the full-rank factor's entries\n", (double)(100 * s->low_rank_ratio)));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  residual %.3e (equilibrium %.3e, compatibility %.3e; rtol %.1e)\n", (double)s->check.residual, (double)s->check.equilibrium, (double)s->check.compatibility, (double)s->rtol));
   if (s->forward_estimate >= 0 || s->condition_estimate > 0) {
     PetscCall(PetscViewerASCIIPrintf(viewer, "  estimated displacement error "));

@@ -9,6 +9,9 @@ typedef enum { BW_SCHUR_AUTO = 0, BW_SCHUR_CHOLESKY = 1, BW_SCHUR_GAMG = 2, BW_S
 /* -solver_forward_bound: how the round-off part of the forward estimate is found (estimates.c) */
 typedef enum { BW_FORWARD_AUTO = 0, BW_FORWARD_WHOLE = 1, BW_FORWARD_SCHUR = 2, BW_FORWARD_EXTRA = 3 } BwForwardBound;
 extern const char *const BwSchurSolves[];
+/* CNTL(7) of S^'s block low-rank factor (solver.low_rank; solver.c's
+ * BW_LOW_RANK_ROWS says what it bought) */
+#define BW_LOW_RANK_TOL 1e-12
 
 /* A path that ran or may run: its outer KSP, kept for the next solve. */
 typedef struct {
@@ -28,6 +31,9 @@ struct _n_BwSolver {
   PetscBool    schur_iterative; /* the fieldsplit's Schur solve does not factor S^ */
   PetscReal    memory;          /* -solver_memory [GB] the run may use summed over its ranks; 0: what the nodes have available */
   char         schur_choice[256]; /* why auto chose the Schur solve it chose, where memory decided it; "" otherwise */
+  PetscInt     low_rank_when; /* -solver_low_rank: 0 auto, 1 always, 2 never */
+  PetscBool    low_rank;      /* the fieldsplit path's factor of S^ is MUMPS's block low-rank one (BwSolverSetUp) */
+  PetscReal    low_rank_ratio; /* entries of the last low-rank factor over its full-rank count (INFOG(35) / INFOG(29)); -1 none */
   BwStorage    storage;
   PetscInt     expected_solves; /* solves the analysis will make with one operator (BwSolverSetExpectedSolves) */
   PetscBool    direct_fits; /* small enough for a factorisation of the whole saddle matrix */

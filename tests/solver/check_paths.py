@@ -64,6 +64,23 @@
             residual of 1e-10); a 2D wall (S^ does not split) factors S^
             whatever solver.memory says; solver.memory < 0 is an error
             naming the key, with no file written
+  low_rank  S^ factored by MUMPS in block low-rank form (solver.low_rank):
+            the bench's 3D wall at 300 x 300 units (9e4 blocks, the smallest
+            square wall whose fronts MUMPS compresses) on 2 ranks with
+            `always`: the summary and /solver factor_low_rank_ratio say the
+            factor holds fewer entries than in full rank (< 0.98; 0.90
+            measured). The same with a compression too coarse for the
+            refinement (-schur_mat_mumps_cntl_7 1e-3: the user's option
+            wins): `auto` falls back to S^ factored again in full rank,
+            recorded in /solver (fallback 1, its reason, ratio -1). The two
+            answers, one refined from a low-rank factor and one from a
+            full-rank factor, within 1e-9 of each other, the first's
+            residual within 3x the second's (both at the floor of rounding
+            the displacements). Under auto, the 24 x 24 wall has no
+            low-rank factor (ratio -1: below 1e6 rows of S^); with `always`
+            on 1 rank MUMPS factors it (not CHOLMOD), its fronts too small
+            to compress (ratio 1); `always` with solver.reproducible is an
+            error naming the key, with no file written
 """
 import os
 import sys
@@ -284,10 +301,45 @@ def memory():
     print(f"displacements of CG + GAMG {e:.1e} from the factored S^'s; 2D wall factored; {err.strip()}")
 
 
+def low_rank():
+    import re
+    from bwrun import solve
+    wall300 = [*WALL3D_24[4:], "-geometry_running_bond_courses", 300, "-geometry_running_bond_units_per_course", 300]
+    blr, out_blr = solve(WALL3D, [*wall300, "-solver_low_rank", "always"], 2, stdout=True)
+    s = blr["solver"]
+    ratio = s["factor_low_rank_ratio"]
+    expect(s["fallback"] == 0 and s["schur_solve"] == "cholesky", f"low rank: {s}")
+    expect(0 < ratio < 0.98, f"low rank: factor_low_rank_ratio {ratio}, want in (0, 0.98)")
+    line = re.findall(r"S\^'s factor in block low-rank form \(MUMPS BLR\): ([0-9]+) %", out_blr)
+    expect(line and abs(int(line[0]) - 100 * ratio) <= 1, f"low rank: summary {line} against ratio {ratio}")
+    full, out_full = solve(WALL3D, [*wall300, "-solver_low_rank", "always", "-schur_mat_mumps_cntl_7", 1e-3], 2, stdout=True)
+    f = full["solver"]
+    expect(f["fallback"] == 1 and "S^ factored again in full rank" in f["fallback_reason"] and f["factor_low_rank_ratio"] == -1,
+           f"coarse low rank: fallback {f['fallback']}, reason {f['fallback_reason']!r}, ratio {f['factor_low_rank_ratio']}")
+    expect("block low-rank form (MUMPS BLR)" not in out_full, "coarse low rank: the summary names a low-rank factor the answer did not use")
+    e = rel_err(blr["blocks/displacement"], full["blocks/displacement"])
+    expect(e < 1e-9, f"low-rank and full-rank answers {e:.2e} apart")
+    expect(s["residual"] <= 3 * f["residual"], f"residual {s['residual']:.3e} with the low-rank factor, {f['residual']:.3e} in full rank")
+    auto = solve(WALL3D, WALL3D_24, 2)["solver"]["factor_low_rank_ratio"]
+    one = solve(WALL3D, [*WALL3D_24, "-solver_low_rank", "always"], 1)["solver"]["factor_low_rank_ratio"]
+    expect(auto == -1 and one == 1, f"24 x 24: ratio {auto} under auto (want -1), {one} with always on 1 rank (want 1)")
+    out = "/tmp/bw_low_rank_reproducible.h5"
+    if os.path.exists(out):
+        os.remove(out)
+    code, _, err = run(WALL3D, [*WALL3D_24, "-solver_low_rank", "always", "-solver_reproducible", "true", "-output_file", out], 2, expect_ok=False)
+    lines = [l for l in err.splitlines() if l.startswith("blockwall:")]
+    expect(code != 0 and len(lines) == 1 and "solver_low_rank" in lines[0], f"low rank and reproducible: exit {code}, {err!r}")
+    expect(not os.path.exists(out), "output written after bad input")
+    print(f"300 x 300 on 2 ranks: low-rank factor {ratio:.3f} of the full rank's entries, residual {s['residual']:.2e}; "
+          f"cntl_7 1e-3 fell back ({f['fallback_reason'][:80]}...), residual {f['residual']:.2e}; answers {e:.1e} apart; "
+          f"24 x 24: ratio {auto} (auto), {one} (always, 1 rank); {lines[0]}")
+
+
 if __name__ == "__main__":
     try:
         {"gamg_fallback": gamg_fallback, "floor": floor, "warn": warn, "agree": agree, "fallback": fallback, "strict": strict, "wall": wall,
-         "ptap": ptap, "analysis": analysis, "compression": compression, "memory": memory}[sys.argv[1]]()
+         "ptap": ptap, "analysis": analysis, "compression": compression, "memory": memory,
+         "low_rank": low_rank}[sys.argv[1]]()
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
