@@ -627,6 +627,7 @@ static PetscErrorCode BwSolverSaveBest(Vec x, BwBest *best)
 PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
 {
   PetscBool ok = PETSC_FALSE, usable;
+  PetscInt  others = 0; /* paths run after the first */
   char      reason[512] = "";
   BwBest    best = {NULL, PETSC_FALSE, PETSC_FALSE, {0, 0, 0, 0}, BW_METHOD_FIELDSPLIT, 0, -1, -1, NULL, -1};
 
@@ -685,6 +686,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     s->fieldsplit.ran_once = PETSC_FALSE;
     s->used                = BW_METHOD_FIELDSPLIT;
     PetscCall(PetscStrlcat(s->fallback_reason, " with S^'s factor in block low-rank form; S^ factored again in full rank", sizeof(s->fallback_reason)));
+    others++;
     PetscCall(BwSolverRun(s, &s->fieldsplit, b, x, log, &ok, &usable, why, sizeof(why)));
     if (!ok && usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_FIELDSPLIT, x, &best));
     if (!ok) PetscCall(PetscStrncpy(reason, why, sizeof(reason)));
@@ -709,6 +711,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
       s->used       = BW_METHOD_FIELDSPLIT;
       s->schur_used = s->symmetric ? "cholesky" : "lu";
       PetscCall(BwSolverSaveBest(x, &best));
+      others++;
       PetscCall(BwSolverRun(s, &s->cholesky, b, x, log, &ok, &usable, why, sizeof(why)));
       if (!ok && usable && !s->forward_check) ok = PETSC_TRUE; /* a Newton correction, as above */
       if (!ok && usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_FIELDSPLIT, x, &best));
@@ -738,6 +741,7 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
       s->used       = BW_METHOD_DIRECT;
       s->schur_used = "";
       PetscCall(BwSolverSaveBest(x, &best));
+      others++;
       PetscCall(BwSolverRun(s, &s->direct, b, x, log, &ok, &usable, why, sizeof(why)));
       if (!ok && usable) PetscCall(BwSolverKeepBest(s, BW_METHOD_DIRECT, x, &best));
       if (!ok) PetscCall(PetscStrncpy(reason, why, sizeof(reason)));
@@ -759,14 +763,24 @@ PetscErrorCode BwSolverSolve(BwSolver s, Vec b, Vec x, BwLog *log)
     s->residual_floor     = best.floor;
     if (best.cond > 0) PetscCall(PetscSNPrintf(cond, sizeof(cond), ", condition estimate %.1e", (double)best.cond));
     if (s->check.residual <= s->rtol)
-      PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "estimated displacement error %.1e misses solver.forward_rtol %.1e (true residual %.3e%s): the system is too ill-conditioned for that accuracy in double precision; the answer written is the best of the paths tried (%s)", (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual, cond, BwMethods[best.method]));
+      PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "estimated displacement error %.1e misses solver.forward_rtol %.1e (true residual %.3e%s): the system is too ill-conditioned for that accuracy in double precision; the answer written is %s (%s)", (double)s->forward_estimate, (double)s->forward_rtol, (double)s->check.residual, cond, others ? "the best of the paths tried" : "that of the only path run", BwMethods[best.method]));
     else
-      PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "true residual %.3e misses solver.rtol %.1e (estimated displacement error %.1e%s): the system is too ill-conditioned for that tolerance in double precision; the answer written is the best of the paths tried (%s)", (double)s->check.residual, (double)s->rtol, (double)s->forward_estimate, cond, BwMethods[best.method]));
+      PetscCall(PetscSNPrintf(s->warning, sizeof(s->warning), "true residual %.3e misses solver.rtol %.1e (estimated displacement error %.1e%s): the system is too ill-conditioned for that tolerance in double precision; the answer written is %s (%s)", (double)s->check.residual, (double)s->rtol, (double)s->forward_estimate, cond, others ? "the best of the paths tried" : "that of the only path run", BwMethods[best.method]));
     if (best.floor > 0 && !(s->check.residual <= s->rtol)) {
       /* why: the residual that rounding the displacements to double leaves */
       char more[200];
       PetscCall(PetscSNPrintf(more, sizeof(more), "; rounding the displacements to double alone leaves a residual up to %.1e here, so double precision cannot be expected to meet rtol (the stresses recovered from them carry that rounding)", (double)best.floor));
       PetscCall(PetscStrlcat(s->warning, more, sizeof(s->warning)));
+    }
+    if (!others && s->fallback) {
+      /* The first path's answer is the one written: nothing fell back
+       * (/solver fallback says why the first path was abandoned). Why no
+       * other path ran goes with the warning. */
+      char more[sizeof(s->fallback_reason) + 64];
+      PetscCall(PetscSNPrintf(more, sizeof(more), "; no other path ran: %s", reason));
+      PetscCall(PetscStrlcat(s->warning, more, sizeof(s->warning)));
+      s->fallback           = PETSC_FALSE;
+      s->fallback_reason[0] = 0;
     }
     ok = PETSC_TRUE;
   }

@@ -59,7 +59,7 @@ struct _n_BwSolver {
   PetscBool    fallback;
   char         fallback_reason[512];
   PetscBool    accuracy_met;
-  char         warning[1024];
+  char         warning[2048];
   PetscInt     iterations;
   BwCheck      check;
   PetscReal    forward_estimate;   /* forward error of the displacements, from the refinement; -1 not estimated */

@@ -81,6 +81,13 @@
             on 1 rank MUMPS factors it (not CHOLMOD), its fronts too small
             to compress (ratio 1); `always` with solver.reproducible is an
             error naming the key, with no file written
+  alone     a path that stops at the round-off floor where no other path
+            can run (the bench's 3D wall at 100 x 100 units on 2 ranks: S^
+            factored, the saddle matrix too large for the direct path;
+            rtol 1e-14, below the floor on any CPU): its answer is written
+            with /solver fallback 0 and fallback_reason "" (nothing fell
+            back), accuracy_met 0, and the warning says that no other path
+            ran, why, and names the floor
 """
 import os
 import sys
@@ -335,11 +342,23 @@ def low_rank():
           f"24 x 24: ratio {auto} (auto), {one} (always, 1 rank); {lines[0]}")
 
 
+def alone():
+    from bwrun import solve
+    args = [*WALL3D_24[4:], "-geometry_running_bond_courses", 100, "-geometry_running_bond_units_per_course", 100, "-solver_rtol", 1e-14]
+    s = solve(WALL3D, args, 2)["solver"]
+    expect(s["method_used"] == "fieldsplit" and s["fallback"] == 0 and s["fallback_reason"] == "" and s["accuracy_met"] == 0,
+           f"floor, no other path: {s}")
+    w = s["warning"]
+    expect("no other path ran" in w and "direct path was not tried" in w and "round-off floor" in w, f"warning {w!r}")
+    expect(s["residual"] > 1e-14 and s["residual_floor"] > 0, f"residual {s['residual']}, floor {s['residual_floor']}")
+    print(f"fieldsplit alone at the floor: fallback 0, residual {s['residual']:.2e}, floor {s['residual_floor']:.1e}; {w[-200:]}")
+
+
 if __name__ == "__main__":
     try:
         {"gamg_fallback": gamg_fallback, "floor": floor, "warn": warn, "agree": agree, "fallback": fallback, "strict": strict, "wall": wall,
          "ptap": ptap, "analysis": analysis, "compression": compression, "memory": memory,
-         "low_rank": low_rank}[sys.argv[1]]()
+         "low_rank": low_rank, "alone": alone}[sys.argv[1]]()
     except Failure as e:
         print("FAIL", e)
         sys.exit(1)
