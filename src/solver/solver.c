@@ -45,9 +45,12 @@
  * 1e6); 8 ranks at 9e4 blocks held ~110 MB more per added rank. The
  * estimate lies a little above each: 20 KB at 9e4 blocks, 0.6 KB more
  * per doubling (the factor's nested-dissection fill), 150 MB per rank. */
-static PetscLogDouble BwSplitFactorBytesPerRank(PetscInt nblocks, PetscMPIInt size)
+static PetscLogDouble BwSplitFactorBytesPerRank(PetscInt nblocks, PetscMPIInt size, PetscBool low_rank)
 {
-  PetscLogDouble kb = 20.0 + 0.6 * PetscMax(0.0, PetscLog2Real((PetscReal)nblocks / 9e4));
+  /* with the factor in block low-rank form (solver.low_rank) the runs
+   * measured held 18.1-19.7 KB per block from 2.5e5 to 1e6 blocks on 1 and
+   * 2 ranks, and no more at 1e6 than at 2.5e5: 20 KB */
+  PetscLogDouble kb = low_rank ? 20.0 : 20.0 + 0.6 * PetscMax(0.0, PetscLog2Real((PetscReal)nblocks / 9e4));
 
   return (PetscLogDouble)nblocks * kb * 1024 / size + 150e6; /* KB of 1024 bytes, as bench/results.md counts them */
 }
@@ -124,7 +127,7 @@ PetscErrorCode BwSolverSetFromOptions(BwSolver s, BwScene scene)
   PetscCall(BwSceneReal(scene, "-solver_rtol", "Required relative true residual of the full mixed system (scaled)", &s->rtol, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_schur", "Schur complement solve of fieldsplit: auto (cholesky below 5e4 blocks, or 2e5 in 3D or when the analysis solves more than once; gamg above; in 3D where S^ splits into independent groups, cholesky at any size where its memory estimate fits solver.memory), cholesky, gamg (CG + GAMG) or hypre (CG + BoomerAMG)", 4, BwSchurSolves, &schur, NULL));
   PetscCall(BwSceneReal(scene, "-solver_memory", "Memory the run may use [GB], summed over its ranks, for auto's choice of the Schur solve; 0: what the nodes have available when the solver is set up (MemAvailable, or less under a batch system's cgroup limit), shared among the ranks of each node", &s->memory, NULL));
-  PetscCall(BwSceneEnum(scene, "-solver_low_rank", "S^ factored by MUMPS in block low-rank form (BLR, CNTL(7) = 1e-12; the refinement on the true S~ removes what it drops): auto (a split 3D S^ of 1e6 rows or more in a linear analysis, where it holds less in the same time), always (MUMPS on one rank too), never", 3, when, &lr, NULL));
+  PetscCall(BwSceneEnum(scene, "-solver_low_rank", "S^ factored by MUMPS in block low-rank form (BLR, CNTL(7) = 1e-12; the refinement on the true S~ removes what it drops): auto (a split 3D S^ of 1e6 rows or more in a linear analysis, where it holds less in less time; MUMPS's then on one rank too, in CHOLMOD's place), always (MUMPS's on one rank too), never", 3, when, &lr, NULL));
   PetscCall(BwSceneReal(scene, "-solver_forward_rtol", "Required estimated relative error of the displacements (max norm, rotations times the assembly's size), from the last correction of the refinement on the full system; default solver.rtol", &s->forward_rtol, &fset));
   PetscCall(BwSceneEnum(scene, "-solver_condition_estimate", "1-norm condition estimate of the factored operator (S^, or K~ on the direct path; about five solves with the factor): auto (when the refinement needed more than two steps or missed a tolerance, unless it stopped at the named floor of rounding the displacements), always, never", 3, when, &w, NULL));
   PetscCall(BwSceneEnum(scene, "-solver_forward_bound", "The round-off part of the forward estimate, where the condition is estimated: auto (extra where D^ is held by its structure, else whole; in 3D above 1e6 rows of K~ cond eps), whole (LAPACK's bound, K~ assembled), schur (the same bound through S^'s factor, nothing of the stresses' size stored), extra (10 x the error that one residual in double-double shows)", 4, bounds, &fb, NULL));
@@ -266,25 +269,51 @@ PetscErrorCode BwSolverSetExpectedSolves(BwSolver s, PetscInt n)
  * whose set-up the machine could not hold), else CG + GAMG, which holds
  * less (15.8 KB per block on 1 rank at 1e6 blocks, against 20.5). The
  * same choice on every rank. */
-static PetscErrorCode BwSolverChooseSplitFactor(BwSolver s, PetscInt nblocks)
+static PetscErrorCode BwSolverChooseSplitFactor(BwSolver s, PetscInt nblocks, PetscBool low_rank)
 {
   PetscMPIInt    size;
   PetscLogDouble need, avail;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(s->comm, &size));
-  need = BwSplitFactorBytesPerRank(nblocks, size);
+  need = BwSplitFactorBytesPerRank(nblocks, size, low_rank);
   if (s->memory > 0) avail = s->memory * 1e9 / size;
   else PetscCall(BwMemoryPerRank(s->comm, PETSC_TRUE, &avail, NULL)); /* the estimate is of the whole run, what it holds already included */
   s->schur_iterative = need <= avail ? PETSC_FALSE : PETSC_TRUE;
-  PetscCall(PetscSNPrintf(s->schur_choice, sizeof(s->schur_choice), "%s (S^ splits; the run with S^ factored needs about %.3g GB, %s the %.3g GB %s)", s->schur_iterative ? "CG + GAMG" : "S^ factored", need * size / 1e9, s->schur_iterative ? "more than" : "within", avail * size / 1e9, s->memory > 0 ? "of solver.memory" : "available"));
+  PetscCall(PetscSNPrintf(s->schur_choice, sizeof(s->schur_choice), "%s (S^ splits; the run with S^ factored%s needs about %.3g GB, %s the %.3g GB %s)", s->schur_iterative ? "CG + GAMG" : "S^ factored", low_rank ? " in block low-rank form" : "", need * size / 1e9, s->schur_iterative ? "more than" : "within", avail * size / 1e9, s->memory > 0 ? "of solver.memory" : "available"));
   PetscCall(PetscInfo(NULL, "auto's Schur solve: %s\n", s->schur_choice));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Whether a factor of S^ on the fieldsplit path would be MUMPS's block
+ * low-rank one (solver.low_rank): always, or in auto for a split 3D S^ of
+ * BW_LOW_RANK_ROWS rows or more in a linear analysis. On one rank too,
+ * where MUMPS's then replaces CHOLMOD's: the 1e6-block wall on 1 rank
+ * took 170.5 s and 18.1 KB per block against CHOLMOD's 182.2 s and 20.3
+ * (bench/results.md, 2026-11-29). */
+static PetscErrorCode BwSolverLowRankWanted(BwSolver s, BwMixed mx, const BwMixedOwnership *own, PetscBool *wanted)
+{
+  PetscInt groups;
+
+  PetscFunctionBeginUser;
+  *wanted = PETSC_FALSE;
+#if defined(PETSC_HAVE_MUMPS)
+  PetscCall(BwMixedGetSchurGroups(mx, &groups, NULL, 0));
+  if (!s->reproducible && s->low_rank_when == 1) *wanted = PETSC_TRUE;
+  else if (!s->reproducible && s->low_rank_when == 0 && own->dim == 3 && groups > 1 && s->expected_solves == 1 && own->nq_global >= BW_LOW_RANK_ROWS) *wanted = PETSC_TRUE;
+#else
+  (void)s;
+  (void)mx;
+  (void)own;
+  (void)groups;
+#endif
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
 {
   BwMixedOwnership own;
+  PetscBool        low_rank;
 
   PetscFunctionBeginUser;
   s->mx = mx;
@@ -302,6 +331,7 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
     PetscCall(MatGetOwnershipRange(S, &q0, &q1));
     PetscCall(BwBlasSetThreadsForRows(q1 - q0));
   }
+  PetscCall(BwSolverLowRankWanted(s, mx, &own, &low_rank));
   if (s->schur == BW_SCHUR_AUTO) {
     MatSolverType type;
     /* a PETSc with no sparse factorisation on this many ranks (a cluster's
@@ -317,7 +347,7 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
     s->schur_iterative = !type || own.nblocks >= limit ? PETSC_TRUE : PETSC_FALSE;
     s->schur_choice[0] = 0;
     PetscCall(BwMixedGetSchurGroups(mx, &groups, NULL, 0));
-    if (type && own.dim == 3 && groups > 1) PetscCall(BwSolverChooseSplitFactor(s, own.nblocks));
+    if (type && own.dim == 3 && groups > 1) PetscCall(BwSolverChooseSplitFactor(s, own.nblocks, low_rank));
   }
   else s->schur_iterative = s->schur == BW_SCHUR_GAMG || s->schur == BW_SCHUR_HYPRE ? PETSC_TRUE : PETSC_FALSE;
   s->direct_fits = own.nblocks < BW_SCHUR_GAMG_BLOCKS || s->requested == BW_METHOD_DIRECT ? PETSC_TRUE : PETSC_FALSE;
@@ -328,15 +358,7 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
    * path (and the factor's round-off bound, which assembles the same
    * matrix) is kept to saddle matrices below 1e6 rows. */
   if (own.dim == 3 && own.nr_global + own.nq_global >= BW_DIRECT_ROWS_3D && s->requested != BW_METHOD_DIRECT) s->direct_fits = PETSC_FALSE;
-  s->low_rank = PETSC_FALSE;
-#if defined(PETSC_HAVE_MUMPS)
-  if (!s->schur_iterative && !s->reproducible) {
-    PetscInt groups;
-    PetscCall(BwMixedGetSchurGroups(mx, &groups, NULL, 0));
-    if (s->low_rank_when == 1) s->low_rank = PETSC_TRUE;
-    else if (s->low_rank_when == 0 && own.dim == 3 && groups > 1 && s->expected_solves == 1 && own.nq_global >= BW_LOW_RANK_ROWS) s->low_rank = PETSC_TRUE;
-  }
-#endif
+  s->low_rank = low_rank && !s->schur_iterative ? PETSC_TRUE : PETSC_FALSE;
   if (s->requested == BW_METHOD_AUTO || s->requested == BW_METHOD_FIELDSPLIT) PetscCall(BwSolverCreateFieldsplit(s, &s->fieldsplit, NULL, PETSC_FALSE));
   PetscCall(BwSolverForwardSetUp(s));
   PetscFunctionReturn(PETSC_SUCCESS);
