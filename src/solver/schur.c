@@ -269,34 +269,42 @@ static PetscErrorCode BwSchurFactorUncompressed(BwSolver s, PC pc)
 
 /* S^ factored by MUMPS in block low-rank form (solver.low_rank): the
  * fronts' off-diagonal blocks compressed to CNTL(7) of their norm, which
- * the refinement on the true S~ takes as its preconditioner's error. Before
- * the options, MUMPS chosen where one rank would take CHOLMOD; after them
- * (the factor's own options, read at the analysis, still win:
- * -schur_mat_mumps_cntl_7 1e-10) the two controls set. */
-static PetscErrorCode BwSchurFactorLowRank(PC pc, PetscBool options_read)
+ * the refinement on the true S~ takes as its preconditioner's error.
+ * Before the options: MUMPS, where one rank would take CHOLMOD (a user's
+ * -schur_pc_factor_mat_solver_type still wins). */
+static PetscErrorCode BwSchurLowRankPackage(PC pc)
 {
-#if defined(PETSC_HAVE_MUMPS)
-  MatSolverType type;
-  PetscBool     mumps;
-
   PetscFunctionBeginUser;
-  if (!options_read) {
-    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
-  PetscCall(PCFactorGetMatSolverType(pc, &type));
-  PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
-  if (mumps) {
-    Mat F;
-    PetscCall(PCFactorSetUpMatSolverType(pc));
-    PetscCall(PCFactorGetMatrix(pc, &F));
-    PetscCall(MatMumpsSetIcntl(F, 35, 2));
-    PetscCall(MatMumpsSetCntl(F, 7, BW_LOW_RANK_TOL));
+#if defined(PETSC_HAVE_MUMPS)
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+#else
+  (void)pc;
+#endif
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* After the options: the two controls, where the package is MUMPS; the
+ * factor's own options, read at the analysis, still win
+ * (-schur_mat_mumps_cntl_7 1e-10, -schur_mat_mumps_icntl_35 0). */
+static PetscErrorCode BwSchurLowRankControls(PC pc)
+{
+  PetscFunctionBeginUser;
+#if defined(PETSC_HAVE_MUMPS)
+  {
+    MatSolverType type;
+    PetscBool     mumps;
+    PetscCall(PCFactorGetMatSolverType(pc, &type));
+    PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
+    if (mumps) {
+      Mat F;
+      PetscCall(PCFactorSetUpMatSolverType(pc));
+      PetscCall(PCFactorGetMatrix(pc, &F));
+      PetscCall(MatMumpsSetIcntl(F, 35, 2));
+      PetscCall(MatMumpsSetCntl(F, 7, BW_LOW_RANK_TOL));
+    }
   }
 #else
-  PetscFunctionBeginUser;
   (void)pc;
-  (void)options_read;
 #endif
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -324,7 +332,7 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
   if (!iterative) {
     PetscCall(KSPSetType(ctx->inner, KSPPREONLY));
     PetscCall(BwSolverSetFactor(s, ipc, s->symmetric ? BW_FACTOR_CHOLESKY : BW_FACTOR_LU, S));
-    if (!factor && s->low_rank) PetscCall(BwSchurFactorLowRank(ipc, PETSC_FALSE));
+    if (!factor && s->low_rank) PetscCall(BwSchurLowRankPackage(ipc));
   } else if (s->schur == BW_SCHUR_HYPRE) {
     PetscCall(KSPSetType(ctx->inner, s->symmetric ? KSPCG : KSPGMRES));
     PetscCall(PCSetType(ipc, PCHYPRE));
@@ -341,7 +349,7 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
   PetscCall(KSPSetFromOptions(ctx->inner));
   PetscCall(BwSolverFactorDefaults(ipc));
   PetscCall(BwSchurFactorUncompressed(s, ipc));
-  if (!iterative && !factor && s->low_rank) PetscCall(BwSchurFactorLowRank(ipc, PETSC_TRUE));
+  if (!iterative && !factor && s->low_rank) PetscCall(BwSchurLowRankControls(ipc));
 
   PetscCall(KSPGetPC(outer, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
