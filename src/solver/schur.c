@@ -192,6 +192,33 @@ static PetscBool BwMumpsOrdersInParallel(void)
 }
 #endif
 
+/* The MUMPS factor matrix of a factorisation PC (LU or Cholesky) whose
+ * package is MUMPS, its package set up; NULL for any other PC or package.
+ * Where its controls are set, after the options (they are read when MUMPS
+ * analyses the matrix, and win). */
+PetscErrorCode BwSolverGetMumpsFactor(PC pc, Mat *F)
+{
+  PetscBool factor;
+
+  PetscFunctionBeginUser;
+  *F = NULL;
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
+#if defined(PETSC_HAVE_MUMPS)
+  {
+    MatSolverType type;
+    PetscBool     mumps;
+    PetscCall(PCFactorGetMatSolverType(pc, &type));
+    PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
+    if (mumps) {
+      PetscCall(PCFactorSetUpMatSolverType(pc));
+      PetscCall(PCFactorGetMatrix(pc, F));
+    }
+  }
+#endif
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* After the options: with MUMPS, null-pivot detection, so that a singular
  * matrix is reported rather than factored into garbage (the options, read
  * when MUMPS analyses the matrix, still win: -..._mat_mumps_icntl_24 0).
@@ -202,30 +229,18 @@ static PetscBool BwMumpsOrdersInParallel(void)
  * that memory, not fill: bench/results.md, 2026-11-28). */
 PetscErrorCode BwSolverFactorDefaults(PC pc)
 {
-  PetscBool     factor;
-  MatSolverType type;
+  Mat F;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
-  if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PCFactorGetMatSolverType(pc, &type));
+  PetscCall(BwSolverGetMumpsFactor(pc, &F));
 #if defined(PETSC_HAVE_MUMPS)
-  {
-    PetscBool mumps;
-    PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
-    if (mumps) {
-      Mat F;
-      PetscCall(PCFactorSetUpMatSolverType(pc));
-      PetscCall(PCFactorGetMatrix(pc, &F));
-      PetscCall(MatMumpsSetIcntl(F, 24, 1));
-      {
-        PetscMPIInt size;
-        PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pc), &size));
-        if (size > 1 && BwMumpsOrdersInParallel()) {
-          PetscCall(MatMumpsSetIcntl(F, 28, 2));
-          PetscCall(MatMumpsSetIcntl(F, 29, 0));
-        }
-      }
+  if (F) {
+    PetscMPIInt size;
+    PetscCall(MatMumpsSetIcntl(F, 24, 1));
+    PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)pc), &size));
+    if (size > 1 && BwMumpsOrdersInParallel()) {
+      PetscCall(MatMumpsSetIcntl(F, 28, 2));
+      PetscCall(MatMumpsSetIcntl(F, 29, 0));
     }
   }
 #endif
@@ -244,19 +259,16 @@ PetscErrorCode BwSolverFactorDefaults(PC pc)
  * is given, so the default goes in as an option; one of the user's wins. */
 static PetscErrorCode BwSchurFactorUncompressed(BwSolver s, PC pc)
 {
-  PetscBool     factor, mumps, set;
-  MatSolverType type;
-  PetscInt      groups, v;
-  const char   *prefix;
-  char          name[256];
+  PetscBool   set;
+  PetscInt    groups, v;
+  const char *prefix;
+  char        name[256];
+  Mat         F;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
-  if (!factor) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PCFactorGetMatSolverType(pc, &type));
-  PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
+  PetscCall(BwSolverGetMumpsFactor(pc, &F));
   PetscCall(BwMixedGetSchurGroups(s->mx, &groups, NULL, 0));
-  if (!mumps || groups < 2) PetscFunctionReturn(PETSC_SUCCESS);
+  if (!F || groups < 2) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PCGetOptionsPrefix(pc, &prefix));
   PetscCall(PetscOptionsHasName(NULL, prefix, "-mat_mumps_icntl_15", &set));
   if (set) PetscFunctionReturn(PETSC_SUCCESS);
@@ -288,23 +300,15 @@ static PetscErrorCode BwSchurLowRankPackage(PC pc)
  * (-schur_mat_mumps_cntl_7 1e-10, -schur_mat_mumps_icntl_35 0). */
 static PetscErrorCode BwSchurLowRankControls(PC pc)
 {
+  Mat F;
+
   PetscFunctionBeginUser;
+  PetscCall(BwSolverGetMumpsFactor(pc, &F));
 #if defined(PETSC_HAVE_MUMPS)
-  {
-    MatSolverType type;
-    PetscBool     mumps;
-    PetscCall(PCFactorGetMatSolverType(pc, &type));
-    PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
-    if (mumps) {
-      Mat F;
-      PetscCall(PCFactorSetUpMatSolverType(pc));
-      PetscCall(PCFactorGetMatrix(pc, &F));
-      PetscCall(MatMumpsSetIcntl(F, 35, 2));
-      PetscCall(MatMumpsSetCntl(F, 7, BW_LOW_RANK_TOL));
-    }
+  if (F) {
+    PetscCall(MatMumpsSetIcntl(F, 35, 2));
+    PetscCall(MatMumpsSetCntl(F, 7, BW_LOW_RANK_TOL));
   }
-#else
-  (void)pc;
 #endif
   PetscFunctionReturn(PETSC_SUCCESS);
 }

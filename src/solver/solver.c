@@ -216,17 +216,11 @@ static PetscErrorCode BwSolverCreateDirect(BwSolver s)
   PetscCall(BwSolverFactorDefaults(pc));
 #if defined(PETSC_HAVE_MUMPS)
   {
-    MatSolverType type;
-    PetscBool     mumps;
-    PetscCall(PCFactorGetMatSolverType(pc, &type));
-    PetscCall(PetscStrcmp(type, MATSOLVERMUMPS, &mumps));
-    if (mumps) {
-      Mat F;
-      /* a larger work space: MUMPS's estimate for saddle matrices with
-       * delayed pivots is too small (INFOG(1) = -9 seen with 20 %) */
-      PetscCall(PCFactorGetMatrix(pc, &F));
-      PetscCall(MatMumpsSetIcntl(F, 14, 100));
-    }
+    Mat F;
+    /* a larger work space: MUMPS's estimate for saddle matrices with
+     * delayed pivots is too small (INFOG(1) = -9 seen with 20 %) */
+    PetscCall(BwSolverGetMumpsFactor(pc, &F));
+    if (F) PetscCall(MatMumpsSetIcntl(F, 14, 100));
   }
 #endif
   PetscCall(BwSolverSetConvergenceTest(s, s->direct.ksp));
@@ -291,29 +285,25 @@ static PetscErrorCode BwSolverChooseSplitFactor(BwSolver s, PetscInt nblocks, Pe
  * where MUMPS's then replaces CHOLMOD's: the 1e6-block wall on 1 rank
  * took 170.5 s and 18.1 KB per block against CHOLMOD's 182.2 s and 20.3
  * (bench/results.md, 2026-11-29). */
-static PetscErrorCode BwSolverLowRankWanted(BwSolver s, BwMixed mx, const BwMixedOwnership *own, PetscBool *wanted)
+static PetscBool BwSolverLowRankWanted(BwSolver s, const BwMixedOwnership *own, PetscInt groups)
 {
-  PetscInt groups;
-
-  PetscFunctionBeginUser;
-  *wanted = PETSC_FALSE;
 #if defined(PETSC_HAVE_MUMPS)
-  PetscCall(BwMixedGetSchurGroups(mx, &groups, NULL, 0));
-  if (!s->reproducible && s->low_rank_when == 1) *wanted = PETSC_TRUE;
-  else if (!s->reproducible && s->low_rank_when == 0 && own->dim == 3 && groups > 1 && s->expected_solves == 1 && own->nq_global >= BW_LOW_RANK_ROWS) *wanted = PETSC_TRUE;
+  if (s->reproducible || s->low_rank_when == 2) return PETSC_FALSE;
+  if (s->low_rank_when == 1) return PETSC_TRUE;
+  return own->dim == 3 && groups > 1 && s->expected_solves == 1 && own->nq_global >= BW_LOW_RANK_ROWS ? PETSC_TRUE : PETSC_FALSE;
 #else
   (void)s;
-  (void)mx;
   (void)own;
   (void)groups;
+  return PETSC_FALSE;
 #endif
-  PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
 {
   BwMixedOwnership own;
   PetscBool        low_rank;
+  PetscInt         groups;
 
   PetscFunctionBeginUser;
   s->mx = mx;
@@ -331,7 +321,8 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
     PetscCall(MatGetOwnershipRange(S, &q0, &q1));
     PetscCall(BwBlasSetThreadsForRows(q1 - q0));
   }
-  PetscCall(BwSolverLowRankWanted(s, mx, &own, &low_rank));
+  PetscCall(BwMixedGetSchurGroups(mx, &groups, NULL, 0));
+  low_rank = BwSolverLowRankWanted(s, &own, groups);
   if (s->schur == BW_SCHUR_AUTO) {
     MatSolverType type;
     /* a PETSc with no sparse factorisation on this many ranks (a cluster's
@@ -343,10 +334,8 @@ PetscErrorCode BwSolverSetUp(BwSolver s, BwMixed mx)
      * (1e5 blocks: 74 s against 3.5 s, with 12 s of factorisation), so 3D
      * factors S^ up to BW_SCHUR_GAMG_BLOCKS blocks for one solve too */
     const PetscInt limit = own.dim == 3 || s->expected_solves > 1 ? BW_SCHUR_GAMG_BLOCKS : BW_SCHUR_GAMG_BLOCKS_ONE;
-    PetscInt       groups;
     s->schur_iterative = !type || own.nblocks >= limit ? PETSC_TRUE : PETSC_FALSE;
     s->schur_choice[0] = 0;
-    PetscCall(BwMixedGetSchurGroups(mx, &groups, NULL, 0));
     if (type && own.dim == 3 && groups > 1) PetscCall(BwSolverChooseSplitFactor(s, own.nblocks, low_rank));
   }
   else s->schur_iterative = s->schur == BW_SCHUR_GAMG || s->schur == BW_SCHUR_HYPRE ? PETSC_TRUE : PETSC_FALSE;

@@ -84,6 +84,8 @@ PetscErrorCode BwSchurPCApplyFull(PC pc, Vec z, Vec y);
  * null-pivot detection with MUMPS. */
 PetscErrorCode BwSolverSetFactor(BwSolver s, PC pc, BwFactorKind kind, Mat A);
 PetscErrorCode BwSolverFactorDefaults(PC pc);
+/* The MUMPS factor matrix of a factorisation PC whose package is MUMPS; NULL otherwise (schur.c) */
+PetscErrorCode BwSolverGetMumpsFactor(PC pc, Mat *F);
 
 /* amg.c: the preconditioner of an iterative Schur solve on inner (its
  * KSP type set): GAMG with the near-null space of S^, and in 3D the blocks
