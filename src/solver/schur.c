@@ -247,30 +247,6 @@ PetscErrorCode BwSolverFactorDefaults(PC pc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* S^ comes with a unit diagonal (the dof scaling, stiffness.c), so MUMPS's
- * own scaling (ICNTL(8) = 77: in parallel, an iterative row and column
- * scaling recomputed at every numerical factorisation) has nothing left to
- * equilibrate, and a pushover pays for it at every Newton iteration: on
- * the ~1e4-block wall of bench/pushover.py (2 ranks, 30 steps, 165 LUs of
- * 30 153 rows, alternated 3 times) 91.6 ms (75.1-95.1) a factorisation
- * without it against 109.5 ms (104.1-112.4), the same iterations and load
- * factors to 1e-14 (bench/results.md, 2026-11-29). A symmetric S^ (its
- * Cholesky factor) MUMPS did not scale anyway (INFOG(33) = 0), so linear
- * runs are as before. Not the direct path's K~, a
- * saddle matrix whose rows differ by the joints' stiffness. Before the
- * analysis: -..._mat_mumps_icntl_8 still wins. */
-static PetscErrorCode BwSchurFactorUnscaled(PC pc)
-{
-  Mat F;
-
-  PetscFunctionBeginUser;
-  PetscCall(BwSolverGetMumpsFactor(pc, &F));
-#if defined(PETSC_HAVE_MUMPS)
-  if (F) PetscCall(MatMumpsSetIcntl(F, 8, 0));
-#endif
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 /* S^ of an assembly symmetric about its mid-plane splits into independent
  * groups of dofs (u1 u2 w3 | u3 w1 w2, stiffness.c). PETSc hands MUMPS the
  * block size of S^ (6) as a compression of its graph, one vertex per block
@@ -319,10 +295,25 @@ static PetscErrorCode BwSchurLowRankPackage(PC pc)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* After the options: the two controls, where the package is MUMPS; the
- * factor's own options, read at the analysis, still win
- * (-schur_mat_mumps_cntl_7 1e-10, -schur_mat_mumps_icntl_35 0). */
-static PetscErrorCode BwSchurLowRankControls(PC pc)
+/* After the options, S^'s own MUMPS controls, read when MUMPS analyses S^
+ * (the factor's options, -schur_mat_mumps_icntl_8 77 and the like, still
+ * win):
+ * - no scaling (ICNTL(8) = 0). S^ comes with a unit diagonal (the dof
+ *   scaling, stiffness.c), so MUMPS's own scaling (ICNTL(8) = 77: in
+ *   parallel, an iterative row and column scaling recomputed at every
+ *   numerical factorisation) has nothing left to equilibrate, and a
+ *   pushover pays for it at every Newton iteration: on the ~1e4-block wall
+ *   of bench/pushover.py (2 ranks, 30 steps, 165 LUs of 30 153 rows,
+ *   alternated 3 times) 91.6 ms (75.1-95.1) a factorisation without it
+ *   against 109.5 ms (104.1-112.4), the same iterations and load factors to
+ *   1e-14 (bench/results.md, 2026-11-29). A symmetric S^ (its Cholesky
+ *   factor) MUMPS did not scale anyway (INFOG(33) = 0), so linear runs are
+ *   as before. Not the direct path's K~, a saddle matrix whose rows differ
+ *   by the joints' stiffness.
+ * - with low_rank (solver.low_rank), the block low-rank factor: ICNTL(35) =
+ *   2 and CNTL(7) = BW_LOW_RANK_TOL (-schur_mat_mumps_cntl_7 1e-10,
+ *   -schur_mat_mumps_icntl_35 0 win). */
+static PetscErrorCode BwSchurFactorControls(PC pc, PetscBool low_rank)
 {
   Mat F;
 
@@ -330,9 +321,14 @@ static PetscErrorCode BwSchurLowRankControls(PC pc)
   PetscCall(BwSolverGetMumpsFactor(pc, &F));
 #if defined(PETSC_HAVE_MUMPS)
   if (F) {
-    PetscCall(MatMumpsSetIcntl(F, 35, 2));
-    PetscCall(MatMumpsSetCntl(F, 7, BW_LOW_RANK_TOL));
+    PetscCall(MatMumpsSetIcntl(F, 8, 0));
+    if (low_rank) {
+      PetscCall(MatMumpsSetIcntl(F, 35, 2));
+      PetscCall(MatMumpsSetCntl(F, 7, BW_LOW_RANK_TOL));
+    }
   }
+#else
+  (void)low_rank;
 #endif
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -376,9 +372,8 @@ PetscErrorCode BwSchurPCSetUp(BwSolver s, KSP outer, PetscBool factor)
   }
   PetscCall(KSPSetFromOptions(ctx->inner));
   PetscCall(BwSolverFactorDefaults(ipc));
-  PetscCall(BwSchurFactorUnscaled(ipc));
+  PetscCall(BwSchurFactorControls(ipc, !iterative && !factor && s->low_rank ? PETSC_TRUE : PETSC_FALSE));
   PetscCall(BwSchurFactorUncompressed(s, ipc));
-  if (!iterative && !factor && s->low_rank) PetscCall(BwSchurLowRankControls(ipc));
 
   PetscCall(KSPGetPC(outer, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
