@@ -15,7 +15,9 @@ which tests/CMakeLists.txt passes as BW_TEST_TIMEOUT; the watchdog fires
 max(30 s, 10 %) before it (the report's gdb runs take 10 s, at most
 blockwall.launch.GDB_SECONDS), so that a hang explains itself instead of
 being killed mute by ctest."""
+import json
 import os
+import resource
 import sys
 import tempfile
 import time
@@ -41,6 +43,10 @@ class TimedOut(Failure, blockwall.launch.RunTimeout):
 _STARTED = time.monotonic()
 TEST_TIMEOUT = float(os.environ.get("BW_TEST_TIMEOUT") or 0) or None
 UNTIMED = 1500  # run by hand, outside ctest: ctest's own default
+# BW_CALL_LOG=FILE: every process a test runs through call() appends a line
+# to FILE (JSON: the test's arguments, the command, its wall and CPU
+# seconds, children included), to see where the suite's time goes
+CALL_LOG = os.environ.get("BW_CALL_LOG")
 
 
 def budget(timeout=None):
@@ -64,7 +70,14 @@ def start(cmd, timeout=None, env=None, cwd=None, what=None):
 def call(cmd, timeout=None, env=None, cwd=None, what=None):
     """Run a command to its end, watched: (returncode, stdout, stderr) as
     attributes, like subprocess.run(capture_output=True, text=True)."""
-    return start(cmd, timeout, env, cwd, what).wait()
+    t0, r0 = time.monotonic(), resource.getrusage(resource.RUSAGE_CHILDREN)
+    p = start(cmd, timeout, env, cwd, what).wait()
+    if CALL_LOG:
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        with open(CALL_LOG, "a") as f:
+            f.write(json.dumps({"test": " ".join(sys.argv), "cmd": " ".join(map(str, cmd)), "wall": time.monotonic() - t0,
+                                "cpu": r1.ru_utime + r1.ru_stime - r0.ru_utime - r0.ru_stime}) + "\n")
+    return p
 
 
 # For a run expected to fail. When a rank exits non-zero, Open MPI's
