@@ -38,8 +38,9 @@ EXAMPLES = os.path.join(HERE, "..", "..", "examples")
 K = 32
 # The U-wall's programme: each of K = 32's two took 50 s (scipy's HiGHS
 # simplex); K = 16's pyramids, bracketing those of 32 (the 16-gon's edges
-# are among the 32-gon's), 11-16 s, the bracket [0.3309, 0.3339] around
-# [0.3321, 0.3328].
+# are among the 32-gon's), 11-16 s (7 s since limit.py equilibrates the
+# programme and uses HiGHS's interior point), the bracket [0.3309, 0.3339]
+# around [0.3321, 0.3328].
 K_U_WALL = 16
 
 

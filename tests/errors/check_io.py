@@ -13,7 +13,7 @@ earlier result untouched, no temporary file and no directory created.
   solve PROCS      SIGTERM during the solve: no file created
   resume           SIGSTOP and SIGCONT (a suspended job resumed): the run
                    ends normally
-  launcher SIG TO  a 2-rank run of a 4e4-block wall, the signal sent to
+  launcher SIG TO  a 2-rank run of a 1e4-block wall, the signal sent to
                    TO (mpiexec or rank1) once each phase from the end of
                    'generate' on has ended (see launcher; the
                    write slowed down): it ends within seconds with the one
@@ -118,7 +118,7 @@ def during_solve(procs):
 def resume():
     """A stop and its SIGCONT (a scheduler's suspend and resume) are not an
     interruption: the run ends normally with its result."""
-    big = ["-geometry_running_bond_courses", "200", "-geometry_running_bond_units_per_course", "200", "-progress"]
+    big = ["-geometry_running_bond_courses", "100", "-geometry_running_bond_units_per_course", "100", "-progress"]
     with tempfile.TemporaryDirectory() as tmp:
         target = os.path.join(tmp, "r.h5")
         w = start(command(1, target, big), env=ENV)
@@ -139,8 +139,8 @@ def launcher(sig, to):
     """For each phase: wait for its progress line and send the signal."""
     if to not in ("mpiexec", "rank1"):
         sys.exit(f"check_io.py launcher: the signal goes to mpiexec or rank1, not {to!r}")
-    big = ["-geometry_running_bond_courses", "200", "-geometry_running_bond_units_per_course", "200", "-progress"]
-    env = dict(ENV, LD_PRELOAD=os.path.abspath(SHIM), BW_WRITE_DELAY_MS="100")
+    big = ["-geometry_running_bond_courses", "100", "-geometry_running_bond_units_per_course", "100", "-progress"]
+    env = dict(ENV, LD_PRELOAD=os.path.abspath(SHIM), BW_WRITE_DELAY_MS="1000")
     # Not while the ranks are still in MPI_Init: Open MPI 4.1's mpiexec hangs
     # on its own when a rank exits while it connects to it (both ranks had
     # reported the signal and exited, unreaped; mpiexec printed "PMIX ERROR:
@@ -177,7 +177,9 @@ def launcher(sig, to):
             expect(len(ours) == 1 and "interrupted by a signal" in ours[0],
                    f"{signal.Signals(sig).name} to {to} after {after}: blockwall's lines {ours}\n{p.stderr}")
             # Ended by the signal, not by running on: the same run left alone
-            # takes 111 s here (its writes slowed down), interrupted 0.01-1.1 s
+            # takes ~120 s here (its writes slowed down: 13 s at 100 ms a write,
+            # 111 s for a 4e4-block wall, which this test ran before 2026-11-29
+            # to no other end), interrupted 0.01-1.1 s
             # (mpiexec's SIGCONT, a second, SIGTERM). 20 s, not 5: a loaded CI
             # machine has stood still for seconds (tests/CMakeLists.txt), and
             # how fast mpiexec reaps its ranks is not what this test is about.

@@ -33,7 +33,8 @@ static int bw_allowed(int fd, size_t n)
   path[len] = 0;
   if (!strstr(path, ".tmp-")) return 1;
   if (delay) {
-    struct timespec ts = {0, atol(delay) * 1000000L};
+    long            ms = atol(delay); /* tv_nsec must stay below 1e9: whole seconds go to tv_sec */
+    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
     nanosleep(&ts, NULL);
   }
   if (limit) {
