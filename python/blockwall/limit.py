@@ -152,11 +152,11 @@ def collapse_multiplier(a, F0, P, ft=0.0, c=0.0, tanphi=0.6, K=64, inscribed=Fal
         return float("inf"), None
     if res.status != 0:
         raise RuntimeError(f"linprog: {res.message}")
-    res.x = res.x / col
-    mu = res.x[:-1].reshape(K, npor)
+    x = res.x / col
+    mu = x[:-1].reshape(K, npor)
     th = 2 * math.pi * np.arange(K) / K
     stress = np.column_stack([R * (np.cos(th) @ mu), c / tanphi - mu.sum(axis=0), R * (np.sin(th) @ mu)])
-    return float(res.x[-1]), stress
+    return float(x[-1]), stress
 
 
 def gravity_loads(a, density, direction):
