@@ -272,45 +272,67 @@ def plot_cracks3d(res, at="end", view="iso", renderer="auto", scale=None, workdi
     display for it are found). `workdir`: where pvpython's input files and
     picture are written and kept (default a temporary directory); `timeout`
     [s] for pvpython."""
+    return plot_cracks3d_many(res, [(at, view)], renderer, scale, workdir, size, timeout)[0]
+
+
+def plot_cracks3d_many(res, pictures, renderer="auto", scale=None, workdir=None, size=(1600, 1000), timeout=600):
+    """plot_cracks3d for several pictures [(at, view), ...] of one result, in
+    that order; pvpython draws them all in one session. With a `workdir`
+    and more than one picture, each picture's files go to its folder
+    AT_VIEW in it."""
     if res.state is None:
         raise ValueError(f"{res.path} has no /portions/state (joints without strength): no crack pattern")
-    if view not in VIEWS3D:
-        raise ValueError(f"--view must be one of {', '.join(VIEWS3D)}, got {view!r}")
+    for _, view in pictures:
+        if view not in VIEWS3D:
+            raise ValueError(f"--view must be one of {', '.join(VIEWS3D)}, got {view!r}")
     if renderer not in ("auto", "pvpython", "matplotlib"):
         raise ValueError(f"--renderer must be auto, pvpython or matplotlib, got {renderer!r}")
     if scale is not None and not scale > 0:
         raise ValueError(f"--scale must be > 0, got {scale:g}")
-    history, kind, requested, step, state = crack_step(res, at)
     polys = portion_polygons(res)
-    if len(polys) != len(state):
-        raise ValueError(f"{res.path}: {len(state)} portion states for {len(polys)} portions")
-    counts, drawn = state_counts(res.path, state)
-    displacement = res.displacement if kind == "end" or step is None else res.steps[step].displacement
-    scene = crack_scene(res, state, displacement, auto_scale3d(res) if scale is None else float(scale), polys)
+    scale = auto_scale3d(res) if scale is None else float(scale)
+    chosen = []
+    for at, view in pictures:
+        history, kind, requested, step, state = crack_step(res, at)
+        if len(polys) != len(state):
+            raise ValueError(f"{res.path}: {len(state)} portion states for {len(polys)} portions")
+        counts = state_counts(res.path, state)
+        displacement = res.displacement if kind == "end" or step is None else res.steps[step].displacement
+        chosen.append((view, history, kind, requested, step, state, counts,
+                       crack_scene(res, state, displacement, scale, polys)))
     auto = renderer == "auto"
     if auto:
         renderer = "pvpython" if pvpython_available() else "matplotlib"
-
-    fig = Figure(figsize=(14 if history else 10, 7.5), layout="constrained")
-    FigureCanvasAgg(fig)
-    gs = fig.add_gridspec(1, 2, width_ratios=[2.6, 1]) if history else None
-    ax_h = fig.add_subplot(gs[1]) if history else None
-    files, rendered = {}, {}
-    image = None
+    drawn_by_pv = [None] * len(chosen)
     if renderer == "pvpython":
         try:
-            rendered, files, image = _draw_pvpython(scene, view, size, workdir, timeout)
+            folders = [workdir if workdir is None or len(pictures) == 1 else os.path.join(workdir, f"{at}_{view}")
+                       for at, view in pictures]
+            drawn_by_pv = _draw_pvpython([(c[7], c[0]) for c in chosen], folders, size, timeout)
         except RuntimeError as e:
             if not auto:
                 raise
             # a picture rather than none; the reason on stderr
             print(f"plot: pvpython could not draw the crack pattern, drawn with matplotlib instead: {e}", file=sys.stderr)
             renderer = "matplotlib"
-    if image is not None:
+    return [_crack_figure(res, c, renderer, pv) for c, pv in zip(chosen, drawn_by_pv)]
+
+
+def _crack_figure(res, chosen, renderer, drawn_by_pv):
+    """The figure of one crack picture: the wall (pvpython's picture, or
+    matplotlib's 3D axes), its legend and the capacity curve beside it."""
+    view, history, kind, requested, step, state, (counts, drawn), scene = chosen
+    fig = Figure(figsize=(14 if history else 10, 7.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    gs = fig.add_gridspec(1, 2, width_ratios=[2.6, 1]) if history else None
+    ax_h = fig.add_subplot(gs[1]) if history else None
+    if renderer == "pvpython":
+        rendered, files, image = drawn_by_pv
         ax = fig.add_subplot(gs[0]) if history else fig.add_subplot()
         ax.imshow(image, interpolation="antialiased")
         ax.set_axis_off()
     else:
+        files = {}
         ax = fig.add_subplot(gs[0], projection="3d") if history else fig.add_subplot(projection="3d")
         rendered = _draw_matplotlib(ax, scene, view)
     # elastic portions look like the blocks' faces (they are not coloured)
@@ -329,27 +351,33 @@ def plot_cracks3d(res, at="end", view="iso", renderer="auto", scale=None, workdi
                        legend, rendered, files)
 
 
-def _draw_pvpython(scene, view, size, workdir, timeout):
-    """Write the scene as two legacy VTK files and draw them with pvpython:
-    (its report, the files, the picture as an array)."""
+def _draw_pvpython(scenes, workdirs, size, timeout):
+    """Write each (scene, view) as two legacy VTK files and draw them all
+    with one pvpython: for each, (its report, the files where kept, the
+    picture as an array)."""
     import matplotlib.image as mpimg
-    from .plot3d import render_cracks3d
+    from .plot3d import render_cracks3d_many
     with tempfile.TemporaryDirectory() as tmp:
-        where = workdir or tmp
-        files = {"blocks": os.path.join(where, "blocks.vtk"), "png": os.path.join(where, "cracks3d.png"),
-                 "portions": os.path.join(where, "portions.vtk") if len(scene.portions) else None}
-        write_vtk(files["blocks"], scene.points, scene.faces, {"block": ("int", scene.face_block)})
-        if files["portions"]:
-            pts = np.concatenate(scene.portion_polygons)
-            ends = np.cumsum([0] + [len(p) for p in scene.portion_polygons])
-            write_vtk(files["portions"], pts, [np.arange(ends[q], ends[q + 1]) for q in range(len(scene.portions))],
-                      {"state": ("int", scene.portion_state), "portion": ("int", scene.portions),
-                       "rgb": ("unsigned_char", np.rint(255 * scene.portion_colours()).astype(np.int64))})
+        pictures, kept = [], []
+        for k, ((scene, view), workdir) in enumerate(zip(scenes, workdirs)):
+            where = workdir or os.path.join(tmp, str(k))
+            os.makedirs(where, exist_ok=True)
+            files = {"blocks": os.path.join(where, "blocks.vtk"), "png": os.path.join(where, "cracks3d.png"),
+                     "portions": os.path.join(where, "portions.vtk") if len(scene.portions) else None}
+            write_vtk(files["blocks"], scene.points, scene.faces, {"block": ("int", scene.face_block)})
+            if files["portions"]:
+                pts = np.concatenate(scene.portion_polygons)
+                ends = np.cumsum([0] + [len(p) for p in scene.portion_polygons])
+                write_vtk(files["portions"], pts, [np.arange(ends[q], ends[q + 1]) for q in range(len(scene.portions))],
+                          {"state": ("int", scene.portion_state), "portion": ("int", scene.portions),
+                           "rgb": ("unsigned_char", np.rint(255 * scene.portion_colours()).astype(np.int64))})
+            pictures.append((files["blocks"], files["portions"], files["png"], view))
+            kept.append(files if workdir else {})
         style = dict(face_colour=FACE_COLOUR, face_opacity=FACE_OPACITY, edge_colour=EDGE_COLOUR,
                      edge_opacity=EDGE_OPACITY, edge_width=1.0)
-        report = render_cracks3d(files["blocks"], files["portions"], files["png"], view, size, style, timeout)
-        image = mpimg.imread(files["png"])
-    return report, files if workdir else {}, image
+        reports = render_cracks3d_many(pictures, size, style, timeout)
+        images = [mpimg.imread(png) for _, _, png, _ in pictures]
+    return list(zip(reports, kept, images))
 
 
 def _draw_matplotlib(ax, scene, view):

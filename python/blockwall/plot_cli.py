@@ -25,23 +25,35 @@ def _interfaces(text, n):
     return chosen
 
 
-def _pushover_pictures(res, draw, outdir, stem, dpi, how):
+def _pushover_pictures(res, draw, outdir, stem, dpi, views=(None,)):
     """A pushover's capacity curve and its crack pattern at the peak and at
-    the end (draw(at): plot_cracks in 2D, plot_cracks3d in 3D)."""
+    the end (draw([(at, view), ...]): the pictures, plot_cracks in 2D,
+    plot_cracks3d_many in 3D, where views are the --view list; with more
+    than one view each picture's name ends in its view)."""
     path = os.path.join(outdir, f"{stem}_history.png")
     plot_history(res).figure.savefig(path, dpi=dpi)
     print(f"pushover history (load factor against the monitor dof): {path}")
     if res.state is None:
         print(f"no crack pattern: the file has no {'/portions/state' if res.dimension == 3 else '/interfaces/state'}")
-    for at in ("peak", "end") if res.state is not None else ():
-        cracks = draw(at)
-        path = os.path.join(outdir, f"{stem}_cracks_{at}.png")
+        return
+    pictures = [(at, view) for at in ("peak", "end") for view in views]
+    for (at, view), cracks in zip(pictures, draw(pictures)):
+        path = os.path.join(outdir, f"{stem}_cracks_{at}{'' if len(views) == 1 else '_' + view}.png")
         cracks.figure.savefig(path, dpi=dpi)
         which = (f"step {cracks.step}, the written step nearest to the peak, step {cracks.requested}" if cracks.nearest
                  else f"step {cracks.step}")
+        how = f", {view} view" if view else ""
         drawn = (f", blocks warped x{cracks.scene.scale:g}, drawn by {cracks.renderer}"
                  if getattr(cracks, "scene", None) is not None else "")
         print(f"crack pattern at the {at} ({which}){how}{drawn}: {path}")
+
+
+def _views(text):
+    """--view: one view or several, comma-separated (drawn in one pvpython session)."""
+    views = [v.strip() for v in text.split(",") if v.strip()]
+    if not views or len(set(views)) != len(views):
+        raise ValueError(f"--view: one or more distinct views, comma-separated, expected, got {text!r}")
+    return views
 
 
 def main(argv=None, prog="tools/plot"):
@@ -51,7 +63,7 @@ def main(argv=None, prog="tools/plot"):
                     "stress diagrams along interfaces (STEM_stress_K.png); for a pushover also the capacity "
                     "curve (STEM_history.png) and the crack pattern at the peak and at the end "
                     "(STEM_cracks_peak.png, STEM_cracks_end.png; in 3D the warped blocks and the failed joint portions from "
-                    "--view); for a 3D result the deformed assembly from --view (STEM_3d_VIEW.png, drawn by "
+                    "--view, STEM_cracks_peak_VIEW.png for each of several views); for a 3D result the deformed assembly from --view (STEM_3d_VIEW.png, drawn by "
                     "pvpython); print the file's attributes.")
     p.add_argument("file", help="HDF5 result file written by blockwall")
     p.add_argument("--outdir", help="directory for the PNGs (default: beside the file)")
@@ -61,7 +73,9 @@ def main(argv=None, prog="tools/plot"):
     p.add_argument("--interfaces", help=f"comma-separated interface indices for the stress diagrams "
                                         f"(default: all if at most {DEFAULT_ALL}, else the first {DEFAULT_FIRST})")
     p.add_argument("--dpi", type=int, default=150)
-    p.add_argument("--view", default="iso", help="3D results: iso, front, back, side or top (default: iso)")
+    p.add_argument("--view", default="iso", help="3D results: iso, front, back, side or top, or several of them "
+                                                 "comma-separated (iso,front,top), drawn in one pvpython session "
+                                                 "(default: iso)")
     p.add_argument("--renderer", choices=["auto", "pvpython", "matplotlib"], default="auto",
                    help="3D pushovers: who draws the crack pattern (default: pvpython where it and a display "
                         "for it, or Xvfb, are found, else matplotlib)")
@@ -69,6 +83,7 @@ def main(argv=None, prog="tools/plot"):
     try:
         if args.scale is not None and not args.scale > 0:
             raise ValueError(f"--scale must be > 0, got {args.scale:g}")
+        views = _views(args.view)
         res = read(args.file)
         chosen = _interfaces(args.interfaces, res.ninterfaces)
     except (OSError, ValueError) as e:
@@ -81,30 +96,31 @@ def main(argv=None, prog="tools/plot"):
     stem = os.path.splitext(os.path.basename(args.file))[0]
     if res.dimension == 3:
         if res.history:
-            # a 3D pushover: the capacity curve and the crack pattern (matplotlib)
-            from .cracks3d import plot_cracks3d
+            # a 3D pushover: the capacity curve and the crack pattern (pvpython or matplotlib)
+            from .cracks3d import plot_cracks3d_many
             try:
-                _pushover_pictures(res, lambda at: plot_cracks3d(res, at, args.view, args.renderer, args.scale), outdir, stem,
-                                   args.dpi, f", {args.view} view")
+                _pushover_pictures(res, lambda pictures: plot_cracks3d_many(res, pictures, args.renderer, args.scale),
+                                   outdir, stem, args.dpi, views)
             except (RuntimeError, ValueError) as e:
                 print(f"plot: error: {e}", file=sys.stderr)
                 return 1
             return 0
-        from .plot3d import render3d
-        path = os.path.join(outdir, f"{stem}_3d_{args.view}.png")
+        from .plot3d import render3d_views
+        paths = {view: os.path.join(outdir, f"{stem}_3d_{view}.png") for view in views}
         try:
-            scale = render3d(args.file, path, view=args.view, scale=args.scale, res=res)
+            scale = render3d_views(args.file, paths, scale=args.scale, res=res)
         except (RuntimeError, ValueError) as e:
             print(f"plot: error: {e}", file=sys.stderr)
             return 1
-        print(f"3D assembly from the {args.view} view, displacements x{scale:g}, coloured by |u|; joints by N/A: {path}")
+        for view, path in paths.items():
+            print(f"3D assembly from the {view} view, displacements x{scale:g}, coloured by |u|; joints by N/A: {path}")
         return 0
     wall = plot_wall(res, args.color, args.scale)
     path = os.path.join(outdir, f"{stem}_wall.png")
     wall.figure.savefig(path, dpi=args.dpi)
     print(f"wall, displacements x{wall.scale:g}: {path}")
     if res.history:
-        _pushover_pictures(res, lambda at: plot_cracks(res, at), outdir, stem, args.dpi, "")
+        _pushover_pictures(res, lambda pictures: [plot_cracks(res, at) for at, _ in pictures], outdir, stem, args.dpi)
     if res.stress is None:
         print("no stress diagrams: the file has no /interfaces/stress (output.stresses false)")
         return 0
