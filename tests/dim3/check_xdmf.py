@@ -75,8 +75,9 @@ def rel(a, b):
 
 
 def mean_motion(q, c, pairs, k, x):
-    """The mean of the rigid motions u + w x (x - c) of interface k's two blocks at points x."""
-    i, j = pairs[k]
+    """The mean of the rigid motions u + w x (x - c) of interface k's two
+    blocks at points x (k an index, or an array of one per point)."""
+    i, j = pairs[k].T  # k one interface, or one per row of x
     return 0.5 * (q[i, :3] + np.cross(q[i, 3:], x - c[i]) + q[j, :3] + np.cross(q[j, 3:], x - c[j]))
 
 
@@ -98,15 +99,20 @@ def leaves(data):
     return out
 
 
-def cell_points(grid):
-    """The points of every cell of a VTK grid, as a list of (n, 3) arrays."""
+def cells(grid):
+    """Every cell's points of a VTK grid of polygons, flattened: the points'
+    coordinates in cell order, each one's cell, and the index of the next
+    point around its cell (numpy over VTK's connectivity and offsets, not a
+    Python loop over the cells: ParaView hands over ~1e3 portions a step)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy
     pts = vtk_to_numpy(grid.GetPoints().GetData())
-    out = []
-    for c in range(grid.GetNumberOfCells()):
-        ids = grid.GetCell(c).GetPointIds()
-        out.append(pts[[ids.GetId(a) for a in range(ids.GetNumberOfIds())]])
-    return out
+    ca = grid.GetCells()
+    conn = vtk_to_numpy(ca.GetConnectivityArray()).astype(np.int64)
+    offs = vtk_to_numpy(ca.GetOffsetsArray()).astype(np.int64)
+    counts = np.diff(offs)
+    cell = np.repeat(np.arange(len(counts)), counts)
+    local = np.arange(len(conn)) - offs[:-1][cell]
+    return conn, pts[conn], cell, offs[:-1][cell] + (local + 1) % counts[cell]
 
 
 def portion_geometry(ref, grid, areas):
@@ -114,19 +120,26 @@ def portion_geometry(ref, grid, areas):
     off, G, Q, W, woff = ref["portion_offsets"], ref["center"], ref["frame"], ref["iverts"], ref["ioffsets"]
     k_of = np.repeat(np.arange(len(off) - 1), np.diff(off))
     L = np.max(np.ptp(ref["vertices"], axis=0))
-    plane = inside = centre = 0.0
-    for p, x in enumerate(cell_points(grid)):
-        k = k_of[p]
-        t, n, b = Q[k]
-        plane = max(plane, float(np.max(np.abs((x - G[k]) @ n))))
-        poly = W[woff[k]:woff[k + 1]]
-        edges = np.roll(poly, -1, axis=0) - poly  # counter-clockwise about n: x is inside where every edge turns left
-        for a, e in zip(poly, edges):
-            inside = max(inside, float(np.max(-np.cross(e, x - a) @ n / np.linalg.norm(e))))
-        xi, eta = (x - G[k]) @ t, (x - G[k]) @ b
-        cr = xi * np.roll(eta, -1) - np.roll(xi, -1) * eta
-        cen = np.array([np.sum((xi + np.roll(xi, -1)) * cr), np.sum((eta + np.roll(eta, -1)) * cr)]) / (3 * np.sum(cr))
-        centre = max(centre, float(np.max(np.abs(cen - ref["portion_center"][p]))))
+    _, x, cell, nxt = cells(grid)
+    k = k_of[cell]
+    t, n, b = Q[k, 0], Q[k, 1], Q[k, 2]
+    d = x - G[k]
+    plane = float(np.max(np.abs(np.sum(d * n, axis=1))))
+    # every point against every edge of its interface's polygon (counter-clockwise
+    # about n: a point is inside where every edge turns left)
+    m = np.diff(woff)[k]
+    pair_point = np.repeat(np.arange(len(x)), m)
+    local = np.arange(len(pair_point)) - np.repeat(np.cumsum(m) - m, m)
+    first = woff[k][pair_point]
+    a = W[first + local]
+    e = W[first + (local + 1) % m[pair_point]] - a
+    inside = float(np.max(-np.sum(np.cross(e, x[pair_point] - a) * n[pair_point], axis=1) / np.linalg.norm(e, axis=1)))
+    xi, eta = np.sum(d * t, axis=1), np.sum(d * b, axis=1)
+    cr = xi * eta[nxt] - xi[nxt] * eta
+    starts = np.flatnonzero(np.r_[True, cell[1:] != cell[:-1]])
+    twice_area = np.add.reduceat(cr, starts)
+    cen = np.stack([np.add.reduceat((xi + xi[nxt]) * cr, starts), np.add.reduceat((eta + eta[nxt]) * cr, starts)], axis=1)
+    centre = float(np.max(np.abs(cen / (3 * twice_area[:, None]) - ref["portion_center"])))
     per_interface = np.add.reduceat(areas, off[:-1])
     return [("portion areas (Cell Size)", rel(areas, ref["portion_area"]), 1e-12),
             ("portion areas summed per interface", rel(per_interface, ref["area"]), 1e-12),
@@ -137,15 +150,12 @@ def portion_geometry(ref, grid, areas):
 
 def portion_motion(ref, grid, q):
     """(what, error, tolerance) of the portions' vertex_displacement at the points ParaView reads."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
     off = ref["portion_offsets"]
     k_of = np.repeat(np.arange(len(off) - 1), np.diff(off))
-    got, pts = array(grid, "point", "vertex_displacement"), vtk_to_numpy(grid.GetPoints().GetData())
+    got = array(grid, "point", "vertex_displacement")
+    conn, x, cell, _ = cells(grid)
     want = np.full_like(got, np.nan)  # a point of no cell stays NaN and fails
-    for p in range(grid.GetNumberOfCells()):
-        ids = grid.GetCell(p).GetPointIds()
-        ids = [ids.GetId(a) for a in range(ids.GetNumberOfIds())]
-        want[ids] = mean_motion(q, ref["centroid"], ref["pairs"], k_of[p], pts[ids])
+    want[conn] = mean_motion(q, ref["centroid"], ref["pairs"], k_of[cell], x)
     return [("portion vertex_displacement", rel(got, want), 1e-13)]
 
 
