@@ -42,7 +42,10 @@ Checked against the HDF5 file, by this script's own arithmetic:
   the picture's caption;
 - tools/plot, by default, writes the three PNGs and says who drew them
   (matplotlib where pvpython is not found, pvpython where it is) and the
-  factor (--scale's, or the one drawn above).
+  factor (--scale's, or the one drawn above); in the matplotlib run with
+  --view iso,front, a crack picture per view named with it
+  (wallA_cracks_peak_iso.png ...), each line naming its view and file, and
+  the end's two views different pictures.
 
 usage: check_cracks3d.py matplotlib|pvpython"""
 import os
@@ -375,21 +378,33 @@ def main(mode):
             env.pop("BW_PVPYTHON", None)
             env["PATH"] = os.path.join(tmp, "empty")
             os.makedirs(env["PATH"])
-        extra, factor = (["--scale", "50"], 50.0) if mode == "matplotlib" else ([], scales[wall])
+        # matplotlib: two views in one call (each picture named with its view); pvpython: the default view
+        extra, factor = (["--scale", "50", "--view", "iso,front"], 50.0) if mode == "matplotlib" else ([], scales[wall])
+        views = ("iso", "front") if mode == "matplotlib" else ("iso",)
         p = call([sys.executable, os.path.join(ROOT, "tools", "plot"), out, "--outdir", outdir, *extra],
                  timeout=2 * TIMEOUT, env=env, what="tools/plot")
         expect(p.returncode == 0, f"tools/plot: exit {p.returncode}\n{p.stdout}\n{p.stderr}")
+        names = [f"wall{wall}_history.png"]
         for at in ("peak", "end"):
-            line = re.search(rf"^crack pattern at the {at} .*, blocks warped x([0-9.e+-]+), drawn by (\w+): (.*)$", p.stdout, re.M)
-            expect(line and line.group(2) == mode, f"tools/plot: no line 'crack pattern at the {at} ... drawn by {mode}':\n{p.stdout}")
-            expect(float(line.group(1)) == factor, f"tools/plot: the {at}'s blocks warped x{line.group(1)}, want x{factor:g}")
-        for name in (f"wall{wall}_history.png", f"wall{wall}_cracks_peak.png", f"wall{wall}_cracks_end.png"):
+            for view in views:
+                name = f"wall{wall}_cracks_{at}{'_' + view if len(views) > 1 else ''}.png"
+                names.append(name)
+                line = re.search(rf"^crack pattern at the {at} .*, {view} view, blocks warped x([0-9.e+-]+), drawn by (\w+): (.*)$",
+                                 p.stdout, re.M)
+                expect(line and line.group(2) == mode and line.group(3) == os.path.join(outdir, name),
+                       f"tools/plot: no line 'crack pattern at the {at} ... {view} view ... drawn by {mode}: ...{name}':\n{p.stdout}")
+                expect(float(line.group(1)) == factor, f"tools/plot: the {at}'s blocks warped x{line.group(1)}, want x{factor:g}")
+        for name in names:
             path = os.path.join(outdir, name)
             expect(os.path.exists(path), f"tools/plot did not write {name}:\n{p.stdout}")
             drawn = ink(mpimg.imread(path))
             expect(drawn > 0.05, f"{name}: {drawn:.1%} of the pixels drawn")
             print(f"tools/plot: {name}: {drawn:.0%} of the pixels drawn")
-
+        if len(views) > 1:
+            a, b = (mpimg.imread(os.path.join(outdir, f"wall{wall}_cracks_end_{v}.png"))[:, :, :3] for v in views)
+            differ = float(np.mean(np.any(np.abs(a - b) > 0.02, axis=2)))
+            expect(differ > 0.05, f"tools/plot: the end's {views[0]} and {views[1]} pictures differ in {differ:.1%} of their pixels")
+            print(f"tools/plot: the end's {views[0]} and {views[1]} pictures differ in {differ:.0%} of their pixels")
 
 if __name__ == "__main__":
     if len(sys.argv) != 2 or sys.argv[1] not in ("matplotlib", "pvpython"):
