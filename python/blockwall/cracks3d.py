@@ -26,6 +26,7 @@ import os
 import sys
 import tempfile
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 from matplotlib.colors import to_rgb
@@ -296,10 +297,9 @@ def plot_cracks3d_many(res, pictures, renderer="auto", scale=None, workdir=None,
         history, kind, requested, step, state = crack_step(res, at)
         if len(polys) != len(state):
             raise ValueError(f"{res.path}: {len(state)} portion states for {len(polys)} portions")
-        counts = state_counts(res.path, state)
         displacement = res.displacement if kind == "end" or step is None else res.steps[step].displacement
-        chosen.append((view, history, kind, requested, step, state, counts,
-                       crack_scene(res, state, displacement, scale, polys)))
+        chosen.append(_Picture(view, history, kind, requested, step, state, *state_counts(res.path, state),
+                               crack_scene(res, state, displacement, scale, polys)))
     auto = renderer == "auto"
     if auto:
         renderer = "pvpython" if pvpython_available() else "matplotlib"
@@ -308,7 +308,7 @@ def plot_cracks3d_many(res, pictures, renderer="auto", scale=None, workdir=None,
         try:
             folders = [workdir if workdir is None or len(pictures) == 1 else os.path.join(workdir, f"{at}_{view}")
                        for at, view in pictures]
-            drawn_by_pv = _draw_pvpython([(c[7], c[0]) for c in chosen], folders, size, timeout)
+            drawn_by_pv = _draw_pvpython([(c.scene, c.view) for c in chosen], folders, size, timeout)
         except RuntimeError as e:
             if not auto:
                 raise
@@ -318,10 +318,23 @@ def plot_cracks3d_many(res, pictures, renderer="auto", scale=None, workdir=None,
     return [_crack_figure(res, c, renderer, pv) for c, pv in zip(chosen, drawn_by_pv)]
 
 
-def _crack_figure(res, chosen, renderer, drawn_by_pv):
+class _Picture(NamedTuple):
+    """One crack picture asked of plot_cracks3d_many, before it is drawn."""
+    view: str
+    history: object        # crack_step's: the capacity curve to draw beside, or None
+    kind: str              # "end", "peak" or "step"
+    requested: int | None
+    step: int | None
+    state: np.ndarray
+    counts: np.ndarray     # state_counts's
+    drawn: dict
+    scene: Crack3DScene
+
+
+def _crack_figure(res, picture, renderer, drawn_by_pv):
     """The figure of one crack picture: the wall (pvpython's picture, or
     matplotlib's 3D axes), its legend and the capacity curve beside it."""
-    view, history, kind, requested, step, state, (counts, drawn), scene = chosen
+    view, history, kind, requested, step, state, counts, drawn, scene = picture
     fig = Figure(figsize=(14 if history else 10, 7.5), layout="constrained")
     FigureCanvasAgg(fig)
     gs = fig.add_gridspec(1, 2, width_ratios=[2.6, 1]) if history else None
