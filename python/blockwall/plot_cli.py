@@ -73,9 +73,9 @@ def main(argv=None, prog="tools/plot"):
     p.add_argument("--interfaces", help=f"comma-separated interface indices for the stress diagrams "
                                         f"(default: all if at most {DEFAULT_ALL}, else the first {DEFAULT_FIRST})")
     p.add_argument("--dpi", type=int, default=150)
-    p.add_argument("--view", default="iso", help="3D results: iso, front, back, side or top, or several of them "
-                                                 "comma-separated (iso,front,top), drawn in one pvpython session "
-                                                 "(default: iso)")
+    p.add_argument("--view", help="3D results: iso, front, back, side or top, or several of them "
+                                  "comma-separated (iso,front,top), drawn in one pvpython session "
+                                  "(default: iso)")
     p.add_argument("--renderer", choices=["auto", "pvpython", "matplotlib"], default="auto",
                    help="3D pushovers: who draws the crack pattern (default: pvpython where it and a display "
                         "for it, or Xvfb, are found, else matplotlib)")
@@ -83,7 +83,7 @@ def main(argv=None, prog="tools/plot"):
     try:
         if args.scale is not None and not args.scale > 0:
             raise ValueError(f"--scale must be > 0, got {args.scale:g}")
-        views = _views(args.view)
+        views = _views(args.view or "iso")
         res = read(args.file)
         chosen = _interfaces(args.interfaces, res.ninterfaces)
     except (OSError, ValueError) as e:
@@ -115,6 +115,9 @@ def main(argv=None, prog="tools/plot"):
         for view, path in paths.items():
             print(f"3D assembly from the {view} view, displacements x{scale:g}, coloured by |u|; joints by N/A: {path}")
         return 0
+    if args.view is not None:
+        print(f"plot: --view {args.view} left aside: it chooses the camera of a 3D result, and this 2D result "
+              f"is drawn in its plane", file=sys.stderr)
     wall = plot_wall(res, args.color, args.scale)
     path = os.path.join(outdir, f"{stem}_wall.png")
     wall.figure.savefig(path, dpi=args.dpi)

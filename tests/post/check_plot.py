@@ -234,7 +234,7 @@ def pushover(tmp):
         fh.write(PUSHOVER)
     out, png = os.path.join(tmp, "push.h5"), os.path.join(tmp, "png")
     run(scene, ["-output_file", out])
-    stdout = plot_command(out, png)
+    stdout, _ = plot_command(out, png)
     res = post.load(out)
     with h5py.File(out, "r") as f:
         lam = f["history/load_factor"][()]
@@ -269,7 +269,7 @@ def pushover(tmp):
     every = peak + 1
     out2, png2 = os.path.join(tmp, "every.h5"), os.path.join(tmp, "png2")
     run(scene, ["-output_file", out2, "-output_steps", f"every_{every}"])
-    stdout = plot_command(out2, png2)
+    stdout, _ = plot_command(out2, png2)
     res = post.load(out2)
     with h5py.File(out2, "r") as f:
         expect(np.array_equal(f["history/load_factor"][()], lam), "every_N changed the analysis")
@@ -309,7 +309,7 @@ def linear_refused(res, stdout):
 def plot_command(h5file, outdir, args=()):
     p = call([sys.executable, os.path.join(TOOLS, "plot"), h5file, "--outdir", outdir, *args], env=ENV, what="tools/plot")
     expect(p.returncode == 0, f"tools/plot failed ({p.returncode}):\n{p.stdout}\n{p.stderr}")
-    return p.stdout
+    return p.stdout, p.stderr
 
 
 def main(mode):
@@ -320,12 +320,17 @@ def main(mode):
         out, png = os.path.join(tmp, "result.h5"), os.path.join(tmp, "png")
         if mode == "case2":
             run(TWO_BLOCKS, ["-output_file", out])
-            stdout = plot_command(out, png)
+            # --view chooses a 3D result's camera: a 2D result says it is left aside, in one line
+            stdout, stderr = plot_command(out, png, ["--view", "front"])
+            lines = [line for line in stderr.splitlines() if line.strip()]
+            expect(len(lines) == 1 and "--view front left aside" in lines[0] and "2D" in lines[0],
+                   f"tools/plot --view on a 2D result: stderr {stderr!r}")
             shown, scale, color = [0], None, "umag"
         elif mode == "demo":
             expect(os.path.isfile(DEMO), f"{DEMO} does not exist")
             run(DEMO, ["-output_file", out], np_ranks=2)
-            stdout = plot_command(out, png, ["--color", "w", "--scale", "500", "--interfaces", "0,5,7"])
+            stdout, stderr = plot_command(out, png, ["--color", "w", "--scale", "500", "--interfaces", "0,5,7"])
+            expect("--view" not in stderr, f"tools/plot without --view on a 2D result: stderr {stderr!r}")
             shown, scale, color = [0, 5, 7], 500.0, "w"
         else:
             raise SystemExit(f"unknown mode {mode}")
