@@ -61,7 +61,8 @@ def one(wall, steps, scheme, blas):
     env = dict(os.environ)
     if blas == "reference":
         env["LD_LIBRARY_PATH"] = f"{REF}/blas:{REF}/lapack" + (":" + env["LD_LIBRARY_PATH"] if env.get("LD_LIBRARY_PATH") else "")
-    exe = os.environ.get("BW_EXE", os.path.join(ROOT, "build", "bin", "blockwall"))
+    # absolute: the run's working directory is a temporary one
+    exe = os.path.abspath(os.environ.get("BW_EXE", os.path.join(ROOT, "build", "bin", "blockwall")))
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "out.h5")
         cmd = [exe, "-scene", scene_file(wall, tmp), "-output_file", out, "-output_steps", "last",
