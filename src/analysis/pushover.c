@@ -549,8 +549,9 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
       PetscCall(BwNewtonFailedElastic(nw, &elastic));
       /* Cut the energy in halves down to tau_min of what the path asks
        * for here. Where even that fails and Newton, not an elastic state,
-       * is what failed, step over: 4, 16, ... 4^6 times the energy of the
-       * first failure. At a crushing peak of examples/j4d_cap.yaml some
+       * is what failed, IMPL-EX takes over under auto; under newton the
+       * step is tried over: 4, 16, ... 4^6 times the energy of the first
+       * failure. At a crushing peak of examples/j4d_cap.yaml some
        * hundred portions sit on the cap's peak together and swap between
        * softening and unloading in every iteration of a small step (the
        * residual stalls at 1e-7 against a tolerance of 1e-8, whatever the
@@ -561,17 +562,9 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
       if (over > 0 && !elastic) {
         tau *= 4;
         if (++over > 6) {
-          /* no step over converged: on to the switch. Under auto, IMPL-EX
-           * from here: Newton has failed at every energy down to tau_min and
-           * at every step over (portions swapping at a peak of their law),
-           * and what it would do next, displacement control and energy
-           * control again, converges where round-off lets it, onto a branch
-           * round-off chooses (examples/j4d_cap.yaml at 400 steps with
-           * OpenBLAS: a snap-back that unloaded the whole wall, lambda
-           * through zero at 3.0 mm, where the reference BLAS and every other
-           * step count went on to 4 mm) */
+          /* no step over converged (scheme newton): displacement control
+           * again (below) */
           tau = 0;
-          if (po->scheme == BW_SCHEME_AUTO) implex = PETSC_TRUE;
         }
         else if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": stepping over with %.3e J (%s)\n", h->n, (double)tau, reason));
       } else if (over > 0) tau = 0;
@@ -581,9 +574,18 @@ static PetscErrorCode BwPushoverSteps(BwAnalysis a, BwProblem *p, BwNewton nw, B
         hold = BW_PUSHOVER_HOLD;
         if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": energy per step cut to %.3e (%s)\n", h->n, (double)tau, reason));
         if (tau < tau_min && !elastic) {
-          over = 1;
-          tau  = 4 * tau_failed;
-          if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": stepping over with %.3e J\n", h->n, (double)tau));
+          /* Under auto, IMPL-EX from here, without stepping over: whether
+           * a longer step converges, and onto which branch, is round-off's
+           * choice (a wall with a window, 300 steps: with OpenBLAS a step
+           * over converged onto a branch that unloaded the wall, lambda
+           * through zero at 0.50 mm, where the reference BLAS's step overs
+           * failed and IMPL-EX went on to 4 mm). */
+          if (po->scheme == BW_SCHEME_AUTO) implex = PETSC_TRUE;
+          else {
+            over = 1;
+            tau  = 4 * tau_failed;
+            if (p->log->verbose) PetscCall(PetscPrintf(p->comm, "  step %4" PetscInt_FMT ": stepping over with %.3e J\n", h->n, (double)tau));
+          }
         }
       }
       if (tau < tau_min) {
