@@ -31,7 +31,10 @@ CPU and BLAS to their stated tolerances.
             1, so that no step in which the joint starts to slide converges
             (elastic steps take one correction). auto hands over to IMPL-EX
             (/solver scheme "newton+implex", implex_from_step past the
-            elastic steps), which reaches the target on the plateau
+            elastic steps) at Newton's first exhaustion, without stepping
+            over it (no "stepping over" among its progress lines, where
+            scheme newton's run of the same scene has them), and IMPL-EX
+            reaches the target on the plateau
             c A + N tan(phi) to 1e-9; Newton's steps before it lie on or
             below the capacity, IMPL-EX's first sliding step above it by at
             most twice the tolerance.
@@ -89,9 +92,16 @@ def sliding():
 def handover():
     c, tphi, N, A = 1.0e4, 0.75, 1000.0, 0.2 * 0.1
     cap = c * A + N * tphi
+    args = ["-analysis_pushover_control", "dissipation", "-analysis_pushover_max_iterations", "1", "-progress", "true"]
     with tempfile.TemporaryDirectory() as tmp:
-        res, r = cn.pushover_block(tmp, 8, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}", (1, 0, 0.055), "u1", 1e-4,
-                                   extra_args=["-analysis_pushover_control", "dissipation", "-analysis_pushover_max_iterations", "1"])
+        res, r, printed = cn.pushover_block(tmp, 8, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}", (1, 0, 0.055), "u1", 1e-4,
+                                            extra_args=args, stdout=True)
+        # scheme newton tries the step over where auto hands over
+        _, _, printed_newton = cn.pushover_block(tmp, 8, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}", (1, 0, 0.055), "u1", 1e-4,
+                                                 extra_args=args + ["-analysis_pushover_scheme", "newton"], stdout=True)
+    overs = printed.count("stepping over")
+    expect(overs == 0, f"auto stepped over Newton's exhaustion {overs} times before handing over (its progress lines)")
+    expect(printed_newton.count("stepping over") > 0, "scheme newton did not step over where Newton was exhausted (its progress lines)")
     sol = res["solver"]
     lam = r.history["load_factor"]
     k = int(sol["implex_from_step"])

@@ -87,11 +87,12 @@ def write(tmp, name, text):
     return path
 
 
-def solve(tmp, text, args=(), ranks=1, name="scene.yaml"):
+def solve(tmp, text, args=(), ranks=1, name="scene.yaml", stdout=False):
+    """The run's datasets and result (and its stdout, with stdout=True)."""
     scene = write(tmp, name, text)
     out = os.path.join(tmp, "out.h5")
-    run(scene, ["-output_file", out, *args], ranks)
-    return read(out), bw.read(out)
+    _, printed, _ = run(scene, ["-output_file", out, *args], ranks)
+    return (read(out), bw.read(out), printed) if stdout else (read(out), bw.read(out))
 
 
 def eccentric():
@@ -120,12 +121,12 @@ def eccentric():
                f"errors do not fall like 1/m from m = {m0} to {m1}: stress {p0:.2e} -> {p1:.2e}, rotation {w0:.2e} -> {w1:.2e}")
 
 
-def pushover_block(tmp, m, steps, strength, pattern, monitor_dof, target, N=1000.0, kn=1e11, kt=4e10, extra_args=()):
+def pushover_block(tmp, m, steps, strength, pattern, monitor_dof, target, N=1000.0, kn=1e11, kt=4e10, extra_args=(), stdout=False):
     extra = f"""analysis:
   type: pushover
   pushover: {{loads: {{top: [{pattern[0]}, {pattern[1]}, {pattern[2]}]}}, control: displacement, monitor: {{set: top, dof: {monitor_dof}}}, target: {target}, steps: {steps}}}"""
     text = TWO.format(s=0.1, l=0.2, a=0.1, kn=kn, kt=kt, strength=strength, m=m, F1=0, F2=-N, M3=0, extra=extra)
-    return solve(tmp, text, extra_args)
+    return solve(tmp, text, extra_args, stdout=stdout)
 
 
 def sliding():
