@@ -84,7 +84,7 @@ def main():
     ap.add_argument("--outdir", default=os.path.join(ROOT, "docs", "img", "validation"))
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        runs = run_all(args.exe, tmp)
+        runs = run_all(os.path.abspath(args.exe), tmp)  # absolute: the runs work in examples/
         print("| wall | first peak [kN] at [mm] | largest [kN] at [mm] | at the end [kN] at [mm] | vertical force: step 0 → end [kN] | "
               "F_y [kN] | d_y [mm] | d_u [mm] | ductility | dissipated [J] | steps | Newton its | time [s] | stop |")
         print("|---|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")
