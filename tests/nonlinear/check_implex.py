@@ -93,12 +93,14 @@ def handover():
     c, tphi, N, A = 1.0e4, 0.75, 1000.0, 0.2 * 0.1
     cap = c * A + N * tphi
     args = ["-analysis_pushover_control", "dissipation", "-analysis_pushover_max_iterations", "1", "-progress", "true"]
+
+    def block(tmp, more=()):
+        return cn.pushover_block(tmp, 8, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}", (1, 0, 0.055), "u1", 1e-4,
+                                 extra_args=args + list(more), stdout=True)
     with tempfile.TemporaryDirectory() as tmp:
-        res, r, printed = cn.pushover_block(tmp, 8, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}", (1, 0, 0.055), "u1", 1e-4,
-                                            extra_args=args, stdout=True)
+        res, r, printed = block(tmp)
         # scheme newton tries the step over where auto hands over
-        _, _, printed_newton = cn.pushover_block(tmp, 8, 20, f"tension: 1.0e5, cohesion: {c}, friction: {tphi}", (1, 0, 0.055), "u1", 1e-4,
-                                                 extra_args=args + ["-analysis_pushover_scheme", "newton"], stdout=True)
+        _, _, printed_newton = block(tmp, ["-analysis_pushover_scheme", "newton"])
     overs = printed.count("stepping over")
     expect(overs == 0, f"auto stepped over Newton's exhaustion {overs} times before handing over (its progress lines)")
     expect(printed_newton.count("stepping over") > 0, "scheme newton did not step over where Newton was exhausted (its progress lines)")
