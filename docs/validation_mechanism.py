@@ -53,16 +53,12 @@ def no_cap(text):
                   "compression: 0", text)
 
 
-def units_whole(text):
-    return text.replace("strength: {tension: 2.0e6, cohesion: 2.8e6", "strength: {tension: 2.0e7, cohesion: 2.8e7")
+def units(tension, cohesion):
+    """The units' potential cracks with this tension and cohesion (the scenes': 2.0e6, 2.8e6)."""
+    return lambda text: text.replace("strength: {tension: 2.0e6, cohesion: 2.8e6", f"strength: {{tension: {tension}, cohesion: {cohesion}")
 
 
-def unit_tension(text):
-    return text.replace("strength: {tension: 2.0e6, cohesion: 2.8e6", "strength: {tension: 2.0e7, cohesion: 2.8e6")
-
-
-def unit_cohesion(text):
-    return text.replace("strength: {tension: 2.0e6, cohesion: 2.8e6", "strength: {tension: 2.0e6, cohesion: 2.8e7")
+units_whole = units("2.0e7", "2.8e7")
 
 
 def finer(text):
@@ -75,8 +71,8 @@ VARIANTS = {
     "cap at fc": cap_at_fc,
     "no cap": no_cap,
     "units whole": units_whole,
-    "unit tension x 10": unit_tension,
-    "unit cohesion x 10": unit_cohesion,
+    "unit tension x 10": units("2.0e7", "2.8e6"),
+    "unit cohesion x 10": units("2.0e6", "2.8e7"),
     "m 32": finer,
     "Css 0.01 + units whole": lambda t: units_whole(css(t)),
 }

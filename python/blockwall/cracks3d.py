@@ -292,14 +292,17 @@ def plot_cracks3d_many(res, pictures, renderer="auto", scale=None, workdir=None,
         raise ValueError(f"--scale must be > 0, got {scale:g}")
     polys = portion_polygons(res)
     scale = auto_scale3d(res) if scale is None else float(scale)
-    chosen = []
+    chosen, moments = [], {}
     for at, view in pictures:
-        history, kind, requested, step, state = crack_step(res, at)
-        if len(polys) != len(state):
-            raise ValueError(f"{res.path}: {len(state)} portion states for {len(polys)} portions")
-        displacement = res.displacement if kind == "end" or step is None else res.steps[step].displacement
-        chosen.append(_Picture(view, history, kind, requested, step, state, *state_counts(res.path, state),
-                               crack_scene(res, state, displacement, scale, polys)))
+        if at not in moments:
+            # a moment's step and scene once, whatever the views of it
+            history, kind, requested, step, state = crack_step(res, at)
+            if len(polys) != len(state):
+                raise ValueError(f"{res.path}: {len(state)} portion states for {len(polys)} portions")
+            displacement = res.displacement if kind == "end" or step is None else res.steps[step].displacement
+            moments[at] = (history, kind, requested, step, state, *state_counts(res.path, state),
+                           crack_scene(res, state, displacement, scale, polys))
+        chosen.append(_Picture(view, *moments[at]))
     auto = renderer == "auto"
     if auto:
         renderer = "pvpython" if pvpython_available() else "matplotlib"

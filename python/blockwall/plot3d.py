@@ -110,6 +110,12 @@ def pvpython_command():
     return [pv, "--force-offscreen-rendering"]
 
 
+def _check_views(views):
+    for view in views:
+        if view not in VIEWS:
+            raise ValueError(f"--view must be one of {', '.join(VIEWS)}, got {view!r}")
+
+
 def render3d(h5path, png, view="iso", scale=None, size=(1600, 1000), opacity=1.0, res=None):
     """Draw the 3D result `h5path` into `png`; returns the amplification used."""
     return render3d_views(h5path, {view: png}, scale, size, opacity, res)
@@ -122,9 +128,7 @@ def render3d_views(h5path, pngs, scale=None, size=(1600, 1000), opacity=1.0, res
     xdmf = stem + ".xdmf"
     if not os.path.exists(xdmf):
         raise RuntimeError(f"{xdmf}: the 3D pictures are drawn from the XDMF file beside the result; run with output.xdmf: true")
-    for view in pngs:
-        if view not in VIEWS:
-            raise ValueError(f"--view must be one of {', '.join(VIEWS)}, got {view!r}")
+    _check_views(pngs)
     if scale is None and res is not None:
         import numpy as np
         size_m = float(np.ptp(res.vertices, axis=0).max())
@@ -254,9 +258,7 @@ def render_cracks3d(blocks_vtk, portions_vtk, png, view="iso", size=(1600, 1000)
 def render_cracks3d_many(pictures, size=(1600, 1000), style=None, timeout=600):
     """render_cracks3d for several pictures [(blocks_vtk, portions_vtk, png,
     view), ...] in one pvpython session; their reports in the same order."""
-    for *_, view in pictures:
-        if view not in VIEWS:
-            raise ValueError(f"--view must be one of {', '.join(VIEWS)}, got {view!r}")
+    _check_views(view for *_, view in pictures)
     jobs = [dict(blocks=os.path.abspath(b), portions=q and os.path.abspath(q), png=os.path.abspath(png),
                  direction=VIEWS[view][0], up=VIEWS[view][1]) for b, q, png, view in pictures]
     with tempfile.TemporaryDirectory() as tmp:
